@@ -1,0 +1,31 @@
+// The prism command. Subcommands live in apps/<name>_command.cpp.
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "apps/render_command.h"
+#include "renderer/version.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"prism: a CPU ray tracer for glTF scenes, built on Embree"};
+  app.set_version_flag("--version", std::string("prism ") + prism::kVersion);
+  app.require_subcommand(1);
+  prism::RenderOptions render_options;
+  CLI::App* render = prism::add_render_command(app, &render_options);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // Usage errors exit with 2, as most command-line tools do.
+    std::fprintf(stderr, "prism: error: %s (see prism %s--help)\n", e.what(),
+                 render->parsed() ? "render " : "");
+    return 2;
+  }
+  if (render->parsed()) return prism::run_render(render_options);
+  return 2;
+}

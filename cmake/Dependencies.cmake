@@ -1,0 +1,27 @@
+# Every dependency comes from Debian 12's packages (scripts/setup.sh installs them).
+
+find_package(embree 3.13 REQUIRED)
+find_package(TBB REQUIRED)
+find_package(Imath REQUIRED)
+find_package(OpenImageIO REQUIRED)
+find_package(TinyGLTF REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json REQUIRED)
+find_package(Threads REQUIRED)
+
+# Debian's OpenImageIO target lists /usr/include/opencv4 as an include directory even
+# though nothing of OpenCV is needed to use it; CMake rejects the missing path.
+get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
+list(FILTER _oiio_includes EXCLUDE REGEX "opencv")
+set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_includes}")
+
+# Debian's OpenColorIO CMake config is broken; its pkg-config file is not.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
+
+if(PRISM_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(PRISM_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,55 @@
+// The lecture's local shading equation, shared by every integrator:
+//
+//   I = I_a k_a + sum_i I_i k_d (L_i . N) + sum_i I_i k_s (R_i . V)^n
+//
+// in radiometric form (docs/materials.md): I_i is the irradiance a light delivers facing it,
+// k_d = rho_d / pi is glTF's Lambert BRDF and k_s (n + 2) / (2 pi) the normalised Phong lobe,
+// so the sum is reflected radiance. k_a = rho_d + k_s, the albedo the surface shows under a
+// uniform ambient radiance I_a.
+#pragma once
+
+#include <cmath>
+
+#include "renderer/integrator.h"
+#include "renderer/material.h"
+#include "renderer/math.h"
+
+namespace prism {
+
+// Shadows = true casts one shadow ray per light that faces the surface; lights behind it
+// (N . L <= 0) are skipped without a ray.
+template <bool Shadows>
+Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
+                       const SurfaceResponse& surface, const Imath::V3f& to_viewer,
+                       RayCounters* counters) {
+  const V3f n = face_forward(hit.shading_normal, to_viewer);
+  V3f radiance = hadamard(context.settings.ambient, surface.diffuse_albedo + surface.specular_colour);
+  const float lobe_norm = (surface.phong_exponent + 2.0f) * (0.5f * kInvPi);
+  for (const LightSource& light : context.scene.lights()) {
+    LightArrival arrival;
+    if (!light_arrival(light, hit.position, &arrival)) continue;
+    const float cos_light = dot(n, arrival.to_light);
+    if (cos_light <= 0.0f) continue;
+    if constexpr (Shadows) {
+      // The origin leaves on the light's side of the true surface, whatever the shading
+      // normal says.
+      const V3f side = face_forward(hit.geometric_normal, arrival.to_light);
+      Ray shadow_ray;
+      shadow_ray.origin = offset_ray_origin(hit.position, side);
+      shadow_ray.direction = arrival.to_light;
+      shadow_ray.tfar = arrival.distance;
+      ++counters->shadow;
+      if (context.scene.geometry().occluded(shadow_ray)) continue;
+    }
+    const V3f reflected = reflect(-arrival.to_light, n);
+    const float cos_view = std::fmax(0.0f, dot(reflected, to_viewer));
+    const float specular = surface.phong_exponent > 0.0f
+                               ? lobe_norm * std::pow(cos_view, surface.phong_exponent)
+                               : lobe_norm;
+    const V3f brdf = surface.diffuse_albedo * kInvPi + surface.specular_colour * specular;
+    radiance += hadamard(brdf, arrival.irradiance) * cos_light;
+  }
+  return radiance;
+}
+
+}  // namespace prism

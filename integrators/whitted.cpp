@@ -1,0 +1,96 @@
+// whitted: shadow-ray direct lighting plus recursive mirror reflection and refraction
+// (Whitted, 1979) with the exact dielectric Fresnel equations and total internal reflection.
+//
+// A surface is, by the material mapping (docs/materials.md), a blend of an opaque part and
+// a transmissive dielectric part (weight `transmission`):
+//   - the opaque part reflects a mirror ray when roughness <= kMirrorRoughness, weighted by
+//     Schlick's Fresnel with F0 = k_s (metals tint their reflections);
+//   - the dielectric part reflects F and refracts (1 - F) of the light, F from the exact
+//     Fresnel equations with the material's ior; the refracted light takes the base colour
+//     as it enters (KHR_materials_transmission's tint).
+// Both reflections share one reflection ray. Recursion stops at --max-depth.
+//
+// Parameters: --max-depth, --ambient (I_a), --background.
+#include "integrators/integrators.h"
+#include "integrators/local_shading.h"
+#include "integrators/tile_loop.h"
+
+namespace prism {
+namespace {
+
+float schlick_weight(float cos_theta) {
+  const float m = std::fmax(0.0f, 1.0f - cos_theta);
+  return (m * m) * (m * m) * m;
+}
+
+class WhittedIntegrator final : public Integrator {
+ public:
+  const char* name() const override { return "whitted"; }
+
+  void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
+                   RayCounters* counters) const override {
+    render_tile_with(context, tile, image, counters, [&](const Ray& ray, RayCounters* c) {
+      SurfaceHit hit;
+      if (!context.scene.geometry().intersect(ray, &hit))
+        return SampleResult{context.settings.background, false};
+      return SampleResult{shade(context, ray, hit, 0, c), true};
+    });
+  }
+
+ private:
+  static V3f trace(const RenderContext& context, const Ray& ray, int depth, RayCounters* counters) {
+    SurfaceHit hit;
+    if (!context.scene.geometry().intersect(ray, &hit)) return context.settings.background;
+    return shade(context, ray, hit, depth, counters);
+  }
+
+  static V3f shade(const RenderContext& context, const Ray& ray, const SurfaceHit& hit, int depth,
+                   RayCounters* counters) {
+    const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit.uv);
+    const V3f to_viewer = -ray.direction;
+    V3f radiance = surface.emission + shade_local<true>(context, hit, surface, to_viewer, counters);
+    if (depth >= context.settings.max_depth) return radiance;
+
+    const V3f n = face_forward(hit.shading_normal, to_viewer);
+    const V3f outside = face_forward(hit.geometric_normal, to_viewer);  // the viewer's side
+    const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(to_viewer, n)));
+
+    V3f reflect_weight(0.0f);
+    if (surface.mirror && surface.transmission < 1.0f) {
+      const V3f f0 = surface.specular_colour;
+      reflect_weight += (f0 + (V3f(1.0f) - f0) * schlick_weight(cos_i)) * (1.0f - surface.transmission);
+    }
+    if (surface.transmission > 0.0f) {
+      // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.
+      const float eta = hit.back_face ? 1.0f / surface.ior : surface.ior;
+      const float fresnel = fresnel_dielectric(cos_i, eta);
+      reflect_weight += V3f(surface.transmission * fresnel);
+      V3f refracted;
+      if (fresnel < 1.0f && refract(ray.direction, n, eta, &refracted)) {
+        Ray r;
+        r.origin = offset_ray_origin(hit.position, -outside);
+        r.direction = refracted;
+        ++counters->refraction;
+        const V3f tint = hit.back_face ? V3f(1.0f) : surface.transmission_tint;
+        radiance += hadamard(tint, trace(context, r, depth + 1, counters)) *
+                    (surface.transmission * (1.0f - fresnel));
+      }
+    }
+    if (reflect_weight.x > 0.0f || reflect_weight.y > 0.0f || reflect_weight.z > 0.0f) {
+      Ray r;
+      r.origin = offset_ray_origin(hit.position, outside);
+      r.direction = normalize(reflect(ray.direction, n));
+      ++counters->reflection;
+      radiance += hadamard(reflect_weight, trace(context, r, depth + 1, counters));
+    }
+    return radiance;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_whitted_integrator() {
+  return std::make_unique<WhittedIntegrator>();
+}
+
+}  // namespace prism

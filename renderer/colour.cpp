@@ -1,0 +1,226 @@
+#include "renderer/colour.h"
+
+#include <OpenColorIO/OpenColorIO.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "renderer/builtin_ocio_config.h"
+
+namespace OCIO = OCIO_NAMESPACE;
+
+namespace prism {
+
+namespace {
+
+constexpr const char* kLinearRec709Name = "Linear Rec.709 (sRGB)";
+constexpr const char* kAcescgName = "ACEScg";
+constexpr const char* kSrgbTextureName = "sRGB - Texture";
+constexpr const char* kDisplayName = "sRGB - Display";
+constexpr const char* kViewName = "Standard";
+
+// OCIO's messages sometimes span lines; ours are promised to be one line.
+std::string one_line(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  std::replace(text.begin(), text.end(), '\r', ' ');
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+// Lossless only: the default optimisation level swaps pow() for a fast approximation and may
+// bake 1D curves into LUTs, which costs more than the 1e-6 the sRGB decode is tested to.
+OCIO::ConstCPUProcessorRcPtr cpu_processor(const OCIO::ConstProcessorRcPtr& processor) {
+  return processor->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
+                                             OCIO::OPTIMIZATION_LOSSLESS);
+}
+
+// Applies `processor` to the RGB of pixels with `channels` floats each, leaving any further
+// channels untouched. Going through a small RGB scratch buffer keeps alpha out of the
+// config's hands (a user config may well contain ops that touch it) without copying the
+// whole image.
+void apply_rgb(const OCIO::CPUProcessor& processor, float* data, std::size_t pixel_count,
+               int channels) {
+  if (channels == 3) {
+    constexpr std::size_t kChunk = 1 << 20;
+    for (std::size_t start = 0; start < pixel_count; start += kChunk) {
+      const std::size_t n = std::min(kChunk, pixel_count - start);
+      OCIO::PackedImageDesc desc(data + start * 3, static_cast<long>(n), 1, 3);
+      processor.apply(desc);
+    }
+    return;
+  }
+  constexpr std::size_t kChunk = 4096;
+  std::vector<float> scratch(kChunk * 3);
+  for (std::size_t start = 0; start < pixel_count; start += kChunk) {
+    const std::size_t n = std::min(kChunk, pixel_count - start);
+    float* base = data + start * channels;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) scratch[i * 3 + c] = base[i * channels + c];
+    }
+    OCIO::PackedImageDesc desc(scratch.data(), static_cast<long>(n), 1, 3);
+    processor.apply(desc);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) base[i * channels + c] = scratch[i * 3 + c];
+    }
+  }
+}
+
+// A PNG cannot hold NaN or out-of-range values; NaN becomes 0 so that a bad pixel shows as
+// black rather than as whatever the float-to-int conversion happens to produce.
+float clamp_unit(float v) {
+  if (std::isnan(v)) return 0.0f;
+  return std::clamp(v, 0.0f, 1.0f);
+}
+
+bool has_view(const OCIO::Config& config, const char* display, const char* view) {
+  for (int i = 0; i < config.getNumViews(display); ++i) {
+    if (std::string(config.getView(display, i)) == view) return true;
+  }
+  return false;
+}
+
+bool has_display(const OCIO::Config& config, const char* display) {
+  for (int i = 0; i < config.getNumDisplays(); ++i) {
+    if (std::string(config.getDisplay(i)) == display) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+const char* to_string(WorkingSpace space) {
+  switch (space) {
+    case WorkingSpace::linear_rec709:
+      return "linear-rec709";
+    case WorkingSpace::acescg:
+      return "acescg";
+  }
+  return "unknown";
+}
+
+bool parse_working_space(const std::string& text, WorkingSpace* out) {
+  if (text == "linear-rec709") {
+    *out = WorkingSpace::linear_rec709;
+    return true;
+  }
+  if (text == "acescg") {
+    *out = WorkingSpace::acescg;
+    return true;
+  }
+  return false;
+}
+
+struct ColourPipeline::Impl {
+  OCIO::ConstConfigRcPtr config;
+  std::string source;
+  std::string working_name;
+  OCIO::ConstCPUProcessorRcPtr rec709_to_working;
+  OCIO::ConstCPUProcessorRcPtr srgb_texture_to_working;
+  OCIO::ConstCPUProcessorRcPtr working_to_display;
+};
+
+ColourPipeline::ColourPipeline(WorkingSpace working_space)
+    : working_space_(working_space), impl_(std::make_unique<Impl>()) {
+  const char* env = std::getenv("OCIO");
+  const bool from_env = env != nullptr && env[0] != '\0';
+  impl_->source = from_env ? std::string("$OCIO=") + env : std::string("built-in");
+  const std::string where = "OCIO config " + impl_->source;
+
+  try {
+    if (from_env) {
+      impl_->config = OCIO::Config::CreateFromFile(env);
+    } else {
+      std::istringstream stream(kBuiltinOcioConfig);
+      impl_->config = OCIO::Config::CreateFromStream(stream);
+    }
+    impl_->config->validate();
+  } catch (const OCIO::Exception& e) {
+    throw std::runtime_error(one_line(where + ": cannot load: " + e.what()));
+  }
+  const OCIO::Config& config = *impl_->config;
+
+  // Looked up by name (or alias), not by role: the roles of an arbitrary config say nothing
+  // about which space is Rec.709 and which is AP1.
+  auto require_space = [&](const char* name) {
+    OCIO::ConstColorSpaceRcPtr space = config.getColorSpace(name);
+    if (!space) {
+      throw std::runtime_error(where + ": has no colour space '" + name + "', which Prism needs");
+    }
+    return std::string(space->getName());
+  };
+  const std::string rec709 = require_space(kLinearRec709Name);
+  const std::string srgb_texture = require_space(kSrgbTextureName);
+  impl_->working_name = working_space == WorkingSpace::acescg ? require_space(kAcescgName) : rec709;
+
+  // A user config need not have our display and view; fall back to its defaults as OCIO
+  // applications do, so that e.g. the ACES studio config previews through its ACES view.
+  std::string display = has_display(config, kDisplayName) ? kDisplayName : "";
+  if (display.empty()) display = config.getDefaultDisplay();
+  if (display.empty()) throw std::runtime_error(where + ": defines no display");
+  std::string view = has_view(config, display.c_str(), kViewName) ? kViewName : "";
+  if (view.empty()) view = config.getDefaultView(display.c_str());
+  if (view.empty()) throw std::runtime_error(where + ": display '" + display + "' has no view");
+
+  try {
+    impl_->rec709_to_working =
+        cpu_processor(config.getProcessor(rec709.c_str(), impl_->working_name.c_str()));
+    impl_->srgb_texture_to_working =
+        cpu_processor(config.getProcessor(srgb_texture.c_str(), impl_->working_name.c_str()));
+    OCIO::DisplayViewTransformRcPtr display_view = OCIO::DisplayViewTransform::Create();
+    display_view->setSrc(impl_->working_name.c_str());
+    display_view->setDisplay(display.c_str());
+    display_view->setView(view.c_str());
+    impl_->working_to_display = cpu_processor(config.getProcessor(display_view));
+  } catch (const OCIO::Exception& e) {
+    throw std::runtime_error(one_line(where + ": cannot build colour transforms: " + e.what()));
+  }
+}
+
+ColourPipeline::~ColourPipeline() = default;
+
+const std::string& ColourPipeline::working_space_name() const {
+  return impl_->working_name;
+}
+
+const std::string& ColourPipeline::config_source() const {
+  return impl_->source;
+}
+
+C3f ColourPipeline::from_linear_rec709(const C3f& c) const {
+  float rgb[3] = {c.x, c.y, c.z};
+  impl_->rec709_to_working->applyRGB(rgb);
+  return C3f(rgb[0], rgb[1], rgb[2]);
+}
+
+void ColourPipeline::srgb_texture_to_working(float* texels, std::size_t pixel_count,
+                                             int channels) const {
+  if (channels != 3 && channels != 4) {
+    throw std::invalid_argument("srgb_texture_to_working: channels must be 3 or 4, not " +
+                                std::to_string(channels));
+  }
+  apply_rgb(*impl_->srgb_texture_to_working, texels, pixel_count, channels);
+}
+
+Image ColourPipeline::working_to_display(const Image& image) const {
+  Image out = image;
+  const std::size_t pixel_count = out.rgba.size() / 4;
+  apply_rgb(*impl_->working_to_display, out.rgba.data(), pixel_count, 4);
+  for (float& v : out.rgba) v = clamp_unit(v);
+  return out;
+}
+
+std::array<float, 8> ColourPipeline::chromaticities() const {
+  switch (working_space_) {
+    case WorkingSpace::acescg:
+      return {0.713f, 0.293f, 0.165f, 0.830f, 0.128f, 0.044f, 0.32168f, 0.33767f};
+    case WorkingSpace::linear_rec709:
+      break;
+  }
+  return {0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
+}
+
+}  // namespace prism

@@ -1,0 +1,60 @@
+// Colour management through OpenColorIO.
+//
+// Prism renders in a scene-linear working space. glTF states its colour factors and light
+// colours in linear Rec.709 and its colour textures in sRGB encoding; both are converted to
+// the working space once, at scene build time. Output goes to EXR in the working space (with
+// its chromaticities) and, for previews, through the config's display/view transform.
+//
+// The config is the one named by $OCIO, as OCIO's own tools do, or else the small config
+// shipped in renderer/ocio/config.ocio, compiled into the binary so that an installed prism
+// never looks for it on disk.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+
+#include "renderer/image.h"
+#include "renderer/scene_description.h"
+
+namespace prism {
+
+enum class WorkingSpace { linear_rec709, acescg };
+
+// "linear-rec709" / "acescg" <-> enum, for the command line and metadata.
+const char* to_string(WorkingSpace space);
+bool parse_working_space(const std::string& text, WorkingSpace* out);
+
+class ColourPipeline {
+ public:
+  // Throws std::runtime_error with a one-line message if the config cannot be loaded or
+  // lacks the colour spaces Prism needs.
+  explicit ColourPipeline(WorkingSpace working_space);
+  ~ColourPipeline();
+  ColourPipeline(const ColourPipeline&) = delete;
+  ColourPipeline& operator=(const ColourPipeline&) = delete;
+
+  WorkingSpace working_space() const { return working_space_; }
+  // The OCIO colour space name of the working space in the active config.
+  const std::string& working_space_name() const;
+  // Where the config came from: "$OCIO=<path>" or "built-in".
+  const std::string& config_source() const;
+
+  // A glTF colour factor or light colour (linear Rec.709) in the working space.
+  C3f from_linear_rec709(const C3f& c) const;
+  // Texels of an sRGB-encoded texture (base colour, emissive), in place, to the working
+  // space. `channels` is 3 or 4; alpha is left alone.
+  void srgb_texture_to_working(float* texels, std::size_t pixel_count, int channels) const;
+  // The image through the display/view transform (sRGB display, Standard view), as
+  // display-referred RGBA in [0, 1] ready to quantise for a PNG.
+  Image working_to_display(const Image& image) const;
+  // CIE xy of the working space's red, green, blue and white: rx ry gx gy bx by wx wy.
+  std::array<float, 8> chromaticities() const;
+
+ private:
+  struct Impl;
+  WorkingSpace working_space_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace prism

@@ -1,0 +1,329 @@
+#include "renderer/embree_scene.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "renderer/math.h"
+#include "renderer/sphere_mesh.h"
+
+namespace prism {
+
+using Imath::M44f;
+using Imath::V2f;
+
+// Vertex data as Embree sees it, kept for rebuilding hit points and interpolating normals and
+// texture coordinates. Positions carry one padding element: Embree reads 16 bytes per
+// float3 vertex, 4 past the end of the last one.
+struct EmbreeScene::TriangleMesh {
+  std::vector<V3f> positions;
+  std::vector<V3f> normals;  // empty: shade with the geometric normal (flat)
+  std::vector<V2f> uv;
+  std::vector<uint32_t> indices;
+  int material = -1;
+  size_t vertex_count() const { return positions.empty() ? 0 : positions.size() - 1; }
+};
+
+// A mesh placed by several nodes: its own BVH, in object space, shared by its instances.
+struct EmbreeScene::Prototype {
+  RTCScene scene = nullptr;
+  std::vector<std::unique_ptr<TriangleMesh>> geometries;  // by geomID in `scene`
+};
+
+struct EmbreeScene::Instance {
+  const Prototype* prototype = nullptr;
+  M44f object_to_world;
+  M44f normal_to_world;  // inverse transpose, for normals (row-vector convention)
+};
+
+struct EmbreeScene::GeometryRecord {
+  enum class Kind { triangles, instance, analytic_spheres, point_spheres, sphere_mesh };
+  Kind kind = Kind::triangles;
+  const TriangleMesh* mesh = nullptr;  // triangles, sphere_mesh
+  size_t index = 0;                    // instance: into instances_; sphere_mesh: into spheres_
+};
+
+namespace {
+
+void report_embree_error(void* message_out, RTCError code, const char* message) {
+  if (code == RTC_ERROR_NONE) return;
+  auto* out = static_cast<std::string*>(message_out);
+  if (out->empty()) *out = message ? message : "unknown Embree error";
+}
+
+M44f to_float(const M44d& m) {
+  M44f f;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) f[i][j] = static_cast<float>(m[i][j]);
+  return f;
+}
+
+// The primitive moved into world space. A transform that mirrors (negative determinant)
+// would turn counter-clockwise triangles clockwise, so their winding is flipped to keep the
+// authored front face in front, as glTF requires.
+void bake(const Primitive& p, const M44d& to_world, std::vector<V3f>* positions,
+          std::vector<V3f>* normals, std::vector<uint32_t>* indices) {
+  const M44d normal_matrix = to_world.inverse().transposed();
+  positions->reserve(p.positions.size() + 1);
+  for (const V3f& v : p.positions) {
+    V3d w;
+    to_world.multVecMatrix(V3d(v), w);
+    positions->push_back(V3f(w));
+  }
+  normals->reserve(p.normals.size());
+  for (const V3f& n : p.normals) {
+    V3d w;
+    normal_matrix.multDirMatrix(V3d(n), w);
+    normals->push_back(V3f(w.normalized()));
+  }
+  *indices = p.indices;
+  if (to_world.determinant() < 0.0) {
+    for (size_t i = 0; i + 2 < indices->size(); i += 3)
+      std::swap((*indices)[i + 1], (*indices)[i + 2]);
+  }
+}
+
+}  // namespace
+
+EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options) {
+  std::string error;
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("cannot create the Embree device");
+  rtcSetDeviceErrorFunction(device_, report_embree_error, &error);
+  scene_ = rtcNewScene(device_);
+  rtcSetSceneFlags(scene_, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+
+  auto record = [&](unsigned geom_id, GeometryRecord r) {
+    if (records_.size() <= geom_id) records_.resize(geom_id + 1);
+    records_[geom_id] = r;
+  };
+
+  // How many nodes place each mesh decides baking or instancing.
+  std::vector<int> uses(scene.meshes.size(), 0);
+  for (const MeshInstance& inst : scene.instances)
+    if (inst.mesh >= 0 && inst.mesh < static_cast<int>(scene.meshes.size())) ++uses[inst.mesh];
+  std::vector<const Prototype*> prototype_of(scene.meshes.size(), nullptr);
+
+  for (const MeshInstance& inst : scene.instances) {
+    if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
+    const Mesh& mesh = scene.meshes[inst.mesh];
+    size_t triangles = 0;
+    for (const Primitive& p : mesh.primitives) triangles += p.indices.size() / 3;
+    statistics_.triangles += triangles;
+    if (uses[inst.mesh] == 1) {
+      for (const Primitive& p : mesh.primitives) {
+        if (p.indices.empty()) continue;
+        auto baked = std::make_unique<TriangleMesh>();
+        bake(p, inst.object_to_world, &baked->positions, &baked->normals, &baked->indices);
+        baked->positions.push_back(V3f(0.0f));  // Embree's read-ahead padding
+        baked->uv = p.uv0;
+        baked->material = p.material;
+        record(attach_triangles(scene_, *baked), {GeometryRecord::Kind::triangles, baked.get(), 0});
+        baked_.push_back(std::move(baked));
+        ++statistics_.meshes_baked;
+      }
+      continue;
+    }
+    if (!prototype_of[inst.mesh]) {
+      auto proto = std::make_unique<Prototype>();
+      proto->scene = rtcNewScene(device_);
+      rtcSetSceneFlags(proto->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+      for (const Primitive& p : mesh.primitives) {
+        if (p.indices.empty()) continue;
+        auto geometry = std::make_unique<TriangleMesh>();
+        geometry->positions = p.positions;
+        geometry->positions.push_back(V3f(0.0f));
+        geometry->normals = p.normals;
+        geometry->uv = p.uv0;
+        geometry->indices = p.indices;
+        geometry->material = p.material;
+        const unsigned id = attach_triangles(proto->scene, *geometry);
+        if (proto->geometries.size() <= id) proto->geometries.resize(id + 1);
+        proto->geometries[id] = std::move(geometry);
+      }
+      rtcCommitScene(proto->scene);
+      prototype_of[inst.mesh] = proto.get();
+      prototypes_.push_back(std::move(proto));
+    }
+    Instance instance;
+    instance.prototype = prototype_of[inst.mesh];
+    instance.object_to_world = to_float(inst.object_to_world);
+    instance.normal_to_world = to_float(inst.object_to_world.inverse().transposed());
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(g, instance.prototype->scene);
+    // Imath's row-vector matrix, read in memory order, is the column-major matrix of the
+    // same transform in the column-vector convention that Embree uses.
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
+                            &instance.object_to_world[0][0]);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene_, g);
+    rtcReleaseGeometry(g);
+    record(id, {GeometryRecord::Kind::instance, nullptr, instances_.size()});
+    instances_.push_back(instance);
+    ++statistics_.mesh_instances;
+  }
+
+  spheres_ = scene.spheres;
+  statistics_.spheres = spheres_.size();
+  if (!spheres_.empty()) {
+    switch (options.spheres.mode) {
+      case SphereMode::analytic:
+        analytic_spheres_geom_ = attach_analytic_spheres(device_, scene_, spheres_);
+        record(analytic_spheres_geom_, {GeometryRecord::Kind::analytic_spheres, nullptr, 0});
+        break;
+      case SphereMode::embree_points:
+        record(attach_point_spheres(device_, scene_, spheres_),
+               {GeometryRecord::Kind::point_spheres, nullptr, 0});
+        break;
+      case SphereMode::mesh:
+        for (size_t i = 0; i < spheres_.size(); ++i) {
+          const Primitive p = tessellate_sphere(spheres_[i], options.spheres.mesh_level);
+          auto mesh = std::make_unique<TriangleMesh>();
+          mesh->positions = p.positions;
+          mesh->positions.push_back(V3f(0.0f));
+          mesh->normals = p.normals;
+          mesh->indices = p.indices;
+          mesh->material = p.material;
+          statistics_.triangles += p.indices.size() / 3;
+          record(attach_triangles(scene_, *mesh),
+                 {GeometryRecord::Kind::sphere_mesh, mesh.get(), i});
+          baked_.push_back(std::move(mesh));
+        }
+        break;
+    }
+  }
+
+  rtcCommitScene(scene_);
+  if (!error.empty()) throw std::runtime_error("Embree: " + error);
+  rtcSetDeviceErrorFunction(device_, nullptr, nullptr);
+  RTCBounds b;
+  rtcGetSceneBounds(scene_, &b);
+  bounds_ =
+      Imath::Box3f(V3f(b.lower_x, b.lower_y, b.lower_z), V3f(b.upper_x, b.upper_y, b.upper_z));
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (analytic_spheres_geom_ != RTC_INVALID_GEOMETRY_ID)
+    release_analytic_spheres(scene_, analytic_spheres_geom_);
+  for (auto& p : prototypes_) rtcReleaseScene(p->scene);
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+unsigned EmbreeScene::attach_triangles(RTCScene scene, const TriangleMesh& mesh) {
+  RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(),
+                             0, sizeof(V3f), mesh.vertex_count());
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
+                             3 * sizeof(uint32_t), mesh.indices.size() / 3);
+  rtcCommitGeometry(g);
+  const unsigned id = rtcAttachGeometry(scene, g);
+  rtcReleaseGeometry(g);
+  return id;
+}
+
+void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& rh,
+                                    SurfaceHit* hit) const {
+  const uint32_t* tri = &mesh.indices[static_cast<size_t>(rh.hit.primID) * 3];
+  const float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
+  hit->position =
+      w * mesh.positions[tri[0]] + u * mesh.positions[tri[1]] + v * mesh.positions[tri[2]];
+  hit->geometric_normal = normalize(V3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+  if (!mesh.normals.empty()) {
+    hit->shading_normal =
+        w * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
+  } else {
+    hit->shading_normal = hit->geometric_normal;
+  }
+  if (!mesh.uv.empty()) hit->uv = w * mesh.uv[tri[0]] + u * mesh.uv[tri[1]] + v * mesh.uv[tri[2]];
+  hit->material = mesh.material;
+}
+
+bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x;
+  rh.ray.dir_y = ray.direction.y;
+  rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = ray.tnear;
+  rh.ray.tfar = ray.tfar;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+  hit->t = rh.ray.tfar;
+  hit->uv = V2f(0.0f, 0.0f);
+  if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+    const Instance& inst = instances_[records_[rh.hit.instID[0]].index];
+    fill_triangle_hit(*inst.prototype->geometries[rh.hit.geomID], rh, hit);
+    // Everything above is in object space; normals move with the inverse transpose.
+    V3f p;
+    inst.object_to_world.multVecMatrix(hit->position, p);
+    hit->position = p;
+    V3f n;
+    inst.normal_to_world.multDirMatrix(hit->geometric_normal, n);
+    hit->geometric_normal = normalize(n);
+    inst.normal_to_world.multDirMatrix(hit->shading_normal, n);
+    hit->shading_normal = n;
+  } else {
+    const GeometryRecord& r = records_[rh.hit.geomID];
+    if (r.kind == GeometryRecord::Kind::analytic_spheres ||
+        r.kind == GeometryRecord::Kind::point_spheres) {
+      const Sphere& s = spheres_[rh.hit.primID];
+      const V3f centre(s.centre);
+      // Projected back onto the sphere: the hit point's error stays relative to the radius
+      // instead of growing with t.
+      const V3f radial = normalize(ray.origin + hit->t * ray.direction - centre);
+      hit->position = centre + static_cast<float>(s.radius) * radial;
+      hit->geometric_normal = radial;
+      hit->shading_normal = radial;
+      hit->material = s.material;
+    } else {
+      fill_triangle_hit(*r.mesh, rh, hit);
+    }
+  }
+  // Interpolated normals can be zero, non-finite, or point through the surface; they are
+  // kept on the geometric normal's side and fall back to it when unusable.
+  const float len2 = hit->shading_normal.length2();
+  if (!(len2 > 1e-20f) || !std::isfinite(len2)) {
+    hit->shading_normal = hit->geometric_normal;
+  } else {
+    hit->shading_normal /= std::sqrt(len2);
+    if (dot(hit->shading_normal, hit->geometric_normal) < 0.0f)
+      hit->shading_normal = -hit->shading_normal;
+  }
+  hit->back_face = dot(ray.direction, hit->geometric_normal) > 0.0f;
+  return true;
+}
+
+bool EmbreeScene::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = ray.tnear;
+  r.tfar = ray.tfar;
+  r.time = 0.0f;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(scene_, &context, &r);
+  return r.tfar < 0.0f;
+}
+
+}  // namespace prism

@@ -1,0 +1,161 @@
+#include "renderer/image_output.h"
+
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
+
+#include "renderer/version.h"
+
+namespace fs = std::filesystem;
+
+namespace prism {
+
+namespace {
+
+std::string one_line(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  std::replace(text.begin(), text.end(), '\r', ' ');
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& reason) {
+  throw std::runtime_error(one_line(path + ": " + reason));
+}
+
+// A zero-sized image is a caller bug (a 0-pixel resolution should have been rejected on the
+// command line); refusing it before touching the file system keeps any old output intact.
+void check_image(const std::string& path, const Image& image) {
+  if (image.width <= 0 || image.height <= 0) {
+    fail(path, "cannot write an empty image (" + std::to_string(image.width) + " x " +
+                   std::to_string(image.height) + ")");
+  }
+  const std::size_t expected = static_cast<std::size_t>(image.width) * image.height * 4;
+  if (image.rgba.size() != expected) {
+    fail(path, "image has " + std::to_string(image.rgba.size()) + " floats, expected " +
+                   std::to_string(expected));
+  }
+}
+
+// The temporary file lives beside the target so the final rename stays on one file system
+// (and is therefore atomic). It is hidden, unique per process and call, and keeps the
+// target's extension in case anything downstream infers the format from the name.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& target) {
+    static std::atomic<unsigned> counter{0};
+    const fs::path target_path(target);
+    fs::path dir = target_path.parent_path();
+    if (dir.empty()) dir = ".";
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) fail(target, "directory '" + dir.string() + "' does not exist");
+    const std::string name = "." + target_path.filename().string() + ".tmp-" +
+                             std::to_string(::getpid()) + "-" + std::to_string(counter++) +
+                             target_path.extension().string();
+    path_ = (dir / name).string();
+  }
+  ~TempFile() {
+    if (!committed_) {
+      std::error_code ec;
+      fs::remove(path_, ec);
+    }
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+
+  const std::string& path() const { return path_; }
+
+  void commit(const std::string& target) {
+    std::error_code ec;
+    fs::rename(path_, target, ec);
+    if (ec) fail(target, "cannot move the finished file into place: " + ec.message());
+    committed_ = true;
+  }
+
+ private:
+  std::string path_;
+  bool committed_ = false;
+};
+
+void write_file(const std::string& target, const char* format, const OIIO::ImageSpec& spec,
+                OIIO::TypeDesc data_type, const void* data) {
+  TempFile temp(target);
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
+  if (!out)
+    fail(target, "OpenImageIO cannot write " + std::string(format) + ": " + OIIO::geterror());
+  if (!out->open(temp.path(), spec)) fail(target, out->geterror());
+  if (!out->write_image(data_type, data)) {
+    const std::string reason = out->geterror();
+    out->close();
+    fail(target, reason);
+  }
+  if (!out->close()) fail(target, out->geterror());
+  out.reset();
+  temp.commit(target);
+}
+
+std::array<float, 16> to_float_matrix(const M44d& m) {
+  std::array<float, 16> out{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) out[r * 4 + c] = static_cast<float>(m[r][c]);
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_exr(const std::string& path, const Image& image, const ColourPipeline& colour,
+               const RenderMetadata& metadata, ExrPixelType pixel_type) {
+  check_image(path, image);
+  const OIIO::TypeDesc format =
+      pixel_type == ExrPixelType::half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+  OIIO::ImageSpec spec(image.width, image.height, 4, format);
+  spec.alpha_channel = 3;
+  // zip is lossless and, unlike piz, does as well on smooth float data as on noisy half.
+  spec.attribute("compression", "zip");
+
+  const std::array<float, 8> chroma = colour.chromaticities();
+  spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), chroma.data());
+  spec.attribute("Software", std::string("prism ") + kVersion);
+  const std::array<float, 16> world_to_camera = to_float_matrix(metadata.world_to_camera);
+  const std::array<float, 16> world_to_ndc = to_float_matrix(metadata.world_to_ndc);
+  spec.attribute("worldToCamera", OIIO::TypeMatrix44, world_to_camera.data());
+  spec.attribute("worldToNDC", OIIO::TypeMatrix44, world_to_ndc.data());
+
+  spec.attribute("prism:integrator", metadata.integrator);
+  spec.attribute("prism:spp", metadata.spp);
+  spec.attribute("prism:renderSeconds", static_cast<float>(metadata.render_seconds));
+  spec.attribute("prism:scene", metadata.scene_path);
+  spec.attribute("prism:workingSpace", to_string(colour.working_space()));
+  spec.attribute("prism:ocioConfig", colour.config_source());
+  for (const auto& [key, value] : metadata.extra) spec.attribute("prism:" + key, value);
+
+  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, image.rgba.data());
+}
+
+void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour) {
+  check_image(path, image);
+  const Image display = colour.working_to_display(image);
+
+  // RGB only: the render's colour is premultiplied by alpha, i.e. already "over black", and a
+  // preview that viewers draw over a checkerboard would misrepresent it.
+  const std::size_t pixel_count = static_cast<std::size_t>(image.width) * image.height;
+  std::vector<std::uint8_t> bytes(pixel_count * 3);
+  for (std::size_t i = 0; i < pixel_count; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      bytes[i * 3 + c] = static_cast<std::uint8_t>(std::lround(display.rgba[i * 4 + c] * 255.0f));
+    }
+  }
+  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("Software", std::string("prism ") + kVersion);
+  write_file(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+}  // namespace prism

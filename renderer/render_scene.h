@@ -1,0 +1,38 @@
+// Everything an integrator reads: the geometry's BVH, the materials with their textures, and
+// the lights, all in the working colour space. Built once per scene.
+#pragma once
+
+#include <vector>
+
+#include "renderer/embree_scene.h"
+#include "renderer/lights.h"
+#include "renderer/material.h"
+#include "renderer/texture.h"
+
+namespace prism {
+
+class ColourPipeline;
+
+class RenderScene {
+ public:
+  RenderScene(const SceneDescription& scene, const GeometryOptions& options,
+              const ColourPipeline& colour);
+
+  const EmbreeScene& geometry() const { return geometry_; }
+  const std::vector<LightSource>& lights() const { return lights_; }
+  // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
+  const Material& material(int index) const {
+    return index >= 0 && index < static_cast<int>(materials_.size()) ? materials_[index]
+                                                                      : default_material_;
+  }
+  bool has_textures() const { return !textures_.empty(); }
+
+ private:
+  EmbreeScene geometry_;
+  std::vector<Texture> textures_;  // before materials_, which point into it
+  std::vector<Material> materials_;
+  Material default_material_;
+  std::vector<LightSource> lights_;
+};
+
+}  // namespace prism

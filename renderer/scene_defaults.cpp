@@ -1,0 +1,75 @@
+#include "renderer/scene_defaults.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace prism {
+namespace {
+
+M44d look_at(const V3d& eye, const V3d& target, const V3d& world_up) {
+  const V3d back = (eye - target).normalized();  // the camera looks down its -Z
+  V3d right = world_up.cross(back);
+  if (right.length() < 1e-9) right = V3d(1, 0, 0);
+  right.normalize();
+  const V3d up = back.cross(right);
+  return M44d(right.x, right.y, right.z, 0, up.x, up.y, up.z, 0, back.x, back.y, back.z, 0, eye.x,
+              eye.y, eye.z, 1);
+}
+
+}  // namespace
+
+Imath::Box3d world_bounds(const SceneDescription& scene) {
+  Imath::Box3d box;
+  for (const MeshInstance& inst : scene.instances) {
+    if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
+    for (const Primitive& p : scene.meshes[inst.mesh].primitives) {
+      for (const V3f& v : p.positions) {
+        V3d w;
+        inst.object_to_world.multVecMatrix(V3d(v), w);
+        box.extendBy(w);
+      }
+    }
+  }
+  for (const Sphere& s : scene.spheres) {
+    box.extendBy(s.centre - V3d(s.radius));
+    box.extendBy(s.centre + V3d(s.radius));
+  }
+  return box;
+}
+
+void add_scene_defaults(SceneDescription* scene) {
+  if (scene->cameras.empty()) {
+    Imath::Box3d box = world_bounds(*scene);
+    if (box.isEmpty()) box = Imath::Box3d(V3d(-1.0), V3d(1.0));
+    const V3d centre = box.center();
+    const double radius = std::max(0.5 * box.size().length(), 1e-6);
+    CameraDescription camera;
+    camera.name = "default";
+    camera.yfov = 0.8;
+    // Far enough that the bounding sphere fits the vertical field of view, with a margin.
+    const double distance = 1.1 * radius / std::sin(0.5 * camera.yfov);
+    const V3d eye = centre + V3d(0.35, 0.3, 1.0).normalized() * distance;
+    camera.camera_to_world = look_at(eye, centre, V3d(0, 1, 0));
+    camera.znear = distance * 1e-4;
+    scene->cameras.push_back(camera);
+    scene->warnings.push_back(
+        "the scene has no camera: using a default perspective camera that frames the whole scene");
+  }
+  if (scene->lights.empty()) {
+    const M44d& m = scene->cameras.front().camera_to_world;
+    const V3d right = V3d(m[0][0], m[0][1], m[0][2]).normalized();
+    const V3d up = V3d(m[1][0], m[1][1], m[1][2]).normalized();
+    const V3d forward = -V3d(m[2][0], m[2][1], m[2][2]).normalized();
+    Light light;
+    light.name = "default key light";
+    light.type = LightType::directional;
+    light.intensity = std::numbers::pi_v<float>;
+    light.direction = (forward - 0.6 * up + 0.4 * right).normalized();
+    scene->lights.push_back(light);
+    scene->warnings.push_back(
+        "the scene has no light: using a default directional light of pi lux from behind the "
+        "camera's upper left (docs/lights.md)");
+  }
+}
+
+}  // namespace prism

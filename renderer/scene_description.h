@@ -1,0 +1,131 @@
+// The scene as the renderer sees it, independent of any file format.
+//
+// scene_io fills this from glTF; the renderer builds its Embree scene, materials and lights
+// from it. Everything is plain data in glTF's conventions (metres, right-handed, +Y up,
+// cameras looking down -Z, colours as linear Rec.709 factors) so that a loader for another
+// format only has to produce this struct.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Imath/ImathColor.h>
+#include <Imath/ImathMatrix.h>
+#include <Imath/ImathVec.h>
+
+namespace prism {
+
+using Imath::C3f;
+using Imath::M44d;
+using Imath::V2f;
+using Imath::V3d;
+using Imath::V3f;
+
+// How the texel values of an image are encoded. glTF encodes only base colour and emissive
+// textures in sRGB; every other slot holds linear data that must not be colour-converted.
+enum class TextureEncoding { srgb, linear_data };
+
+enum class TextureWrap { repeat, clamp_to_edge, mirrored_repeat };
+
+// A decoded image, values normalised to [0, 1] as stored in the file (not yet linearised).
+struct TextureImage {
+  std::string name;
+  int width = 0;
+  int height = 0;
+  int channels = 0;          // 1..4
+  std::vector<float> texels;  // width * height * channels, row 0 at the top (glTF's UV origin)
+  TextureEncoding encoding = TextureEncoding::srgb;
+  TextureWrap wrap_s = TextureWrap::repeat;
+  TextureWrap wrap_t = TextureWrap::repeat;
+};
+
+// glTF metallic-roughness material, unmapped. renderer/material.h maps it onto the
+// lecture's ambient + Lambert + Phong + mirror + refraction model (see docs/materials.md).
+struct MaterialDescription {
+  std::string name;
+  C3f base_colour{1.0f, 1.0f, 1.0f};
+  float alpha = 1.0f;
+  int base_colour_texture = -1;  // index into SceneDescription::textures, -1 = none
+  float metallic = 1.0f;
+  float roughness = 1.0f;
+  int metallic_roughness_texture = -1;  // G = roughness, B = metallic (linear data)
+  C3f emissive{0.0f, 0.0f, 0.0f};
+  int emissive_texture = -1;
+  float transmission = 0.0f;  // KHR_materials_transmission
+  float ior = 1.5f;           // KHR_materials_ior
+  bool double_sided = false;
+};
+
+// One triangle list with one material. Strips and fans are already converted to lists, and
+// winding is counter-clockwise for the front face in object space.
+struct Primitive {
+  std::vector<V3f> positions;
+  std::vector<V3f> normals;  // per vertex, or empty: the geometric (flat) normal is used
+  std::vector<V2f> uv0;      // per vertex, or empty
+  std::vector<uint32_t> indices;  // 3 per triangle, every index < positions.size()
+  int material = -1;              // -1 = the default material
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Primitive> primitives;
+};
+
+// A node that places a mesh in the world. A mesh placed by several nodes becomes one Embree
+// instance per node; a mesh placed once is baked into world space.
+struct MeshInstance {
+  int mesh = -1;
+  M44d object_to_world;  // Imath convention: row vectors, p_world = p_object * object_to_world
+  std::string node_name;
+};
+
+// An analytic sphere (the PRISM_sphere node extension, docs/spheres.md), in world space.
+struct Sphere {
+  V3d centre{0.0, 0.0, 0.0};
+  double radius = 1.0;
+  int material = -1;
+  std::string node_name;
+};
+
+enum class LightType { directional, point, spot };
+
+// KHR_lights_punctual in glTF units: point and spot intensity in candela (W/sr for us),
+// directional in lux (W/m^2). Position and direction are in world space.
+struct Light {
+  std::string name;
+  LightType type = LightType::point;
+  C3f colour{1.0f, 1.0f, 1.0f};
+  float intensity = 1.0f;
+  V3d position{0.0, 0.0, 0.0};
+  V3d direction{0.0, 0.0, -1.0};  // the direction the light travels (node's -Z)
+  double range = 0.0;             // 0 = infinite
+  double inner_cone_angle = 0.0;
+  double outer_cone_angle = 0.7853981633974483;  // pi / 4, glTF's default
+};
+
+enum class Projection { perspective, orthographic };
+
+struct CameraDescription {
+  std::string name;
+  Projection projection = Projection::perspective;
+  M44d camera_to_world;  // the camera looks down its local -Z with +Y up
+  double yfov = 0.8;            // radians, perspective
+  double aspect_ratio = 0.0;    // 0 = take it from the image resolution
+  double xmag = 1.0, ymag = 1.0;  // half extents, orthographic
+  double znear = 1e-3;
+};
+
+struct SceneDescription {
+  std::string source_path;
+  std::vector<Mesh> meshes;
+  std::vector<MeshInstance> instances;
+  std::vector<Sphere> spheres;
+  std::vector<MaterialDescription> materials;
+  std::vector<TextureImage> textures;
+  std::vector<Light> lights;
+  std::vector<CameraDescription> cameras;
+  std::vector<std::string> warnings;  // for the user: skipped primitives, defaults added, ...
+};
+
+}  // namespace prism

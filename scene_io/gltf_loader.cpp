@@ -1,0 +1,827 @@
+#include "scene_io/gltf_loader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <tuple>
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "scene_io/gltf_accessors.h"
+#include "scene_io/gltf_error.h"
+#include "scene_io/gltf_json_check.h"
+
+namespace prism {
+
+namespace {
+
+using namespace gltf_detail;
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<unsigned char> read_file(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path, "file", "does not exist");
+  if (!std::filesystem::is_regular_file(path, ec)) fail(path, "file", "is not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "file", std::string("cannot be opened: ") + std::strerror(errno));
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  if (in.bad()) fail(path, "file", "read error");
+  // tinygltf takes lengths as unsigned int.
+  if (bytes.size() >= std::numeric_limits<unsigned int>::max()) {
+    fail(path, "file", "larger than 4 GiB");
+  }
+  return bytes;
+}
+
+bool is_glb(const std::vector<unsigned char>& bytes) {
+  return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+}
+
+uint32_t le32(const unsigned char* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// The JSON chunk of a GLB, so that it gets the same type checks as a .gltf.
+std::string glb_json(const std::vector<unsigned char>& bytes, const std::string& file) {
+  if (bytes.size() < 20) fail(file, "GLB header", "file too short");
+  const uint32_t version = le32(bytes.data() + 4);
+  if (version != 2) fail(file, "GLB header", "version " + std::to_string(version) + ", not 2");
+  const uint32_t length = le32(bytes.data() + 8);
+  if (length > bytes.size()) {
+    fail(file, "GLB header",
+         "declared length " + std::to_string(length) + " exceeds the file size " +
+             std::to_string(bytes.size()));
+  }
+  const uint32_t chunk_length = le32(bytes.data() + 12);
+  if (le32(bytes.data() + 16) != 0x4E4F534Au) fail(file, "GLB", "first chunk is not JSON");
+  if (chunk_length > length - 20) fail(file, "GLB", "JSON chunk exceeds the file");
+  return std::string(reinterpret_cast<const char*>(bytes.data() + 20), chunk_length);
+}
+
+nlohmann::json parse_json(const std::string& text, const std::string& file) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    // Drop nlohmann's "[json.exception.parse_error.101] " tag: it means nothing to a user.
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0) {
+      if (auto end = what.find("] "); end != std::string::npos) what = what.substr(end + 2);
+    }
+    fail(file, "JSON", what);
+  }
+}
+
+std::string url_decode(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
+        std::isxdigit(uint8_t(uri[i + 2]))) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+// tinygltf reports a missing external file without saying which buffer or image wanted it.
+void check_external_files(const nlohmann::json& root, const std::filesystem::path& base,
+                          const std::string& file) {
+  for (const char* array : {"buffers", "images"}) {
+    auto it = root.find(array);
+    if (it == root.end()) continue;
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      auto uri = (*it)[i].find("uri");
+      if (uri == (*it)[i].end()) continue;
+      const std::string text = uri->get<std::string>();
+      if (text.rfind("data:", 0) == 0) continue;
+      const std::filesystem::path target = base / url_decode(text);
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(target, ec)) {
+        fail(file, indexed(array, i) + ".uri", "file \"" + text + "\" not found");
+      }
+    }
+  }
+}
+
+bool finite(const V3f& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+bool finite(const M44d& m) {
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      if (!std::isfinite(m[i][j])) return false;
+    }
+  }
+  return true;
+}
+
+const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions,
+                                      const char* name) {
+  auto it = extensions.find(name);
+  if (it == extensions.end() || !it->second.IsObject()) return nullptr;
+  return &it->second;
+}
+
+class Converter {
+ public:
+  Converter(const tinygltf::Model& model, const std::string& file, SceneDescription& out)
+      : model_(model), file_(file), out_(out), mesh_map_(model.meshes.size(), -2) {}
+
+  void convert() {
+    for (std::size_t i = 0; i < model_.materials.size(); ++i) {
+      out_.materials.push_back(material(i));
+    }
+    traverse(scene_roots());
+  }
+
+ private:
+  void warn(const std::string& element, const std::string& what) {
+    out_.warnings.push_back(one_line(file_ + ": " + element + ": " + what));
+  }
+
+  [[noreturn]] void error(const std::string& element, const std::string& what) const {
+    fail(file_, element, what);
+  }
+
+  void check_index(int index, std::size_t size, const std::string& element,
+                   const char* what) const {
+    if (index < 0 || static_cast<std::size_t>(index) >= size) {
+      error(element, std::string(what) + " " + std::to_string(index) + " out of range (" +
+                         std::to_string(size) + " " + what + "s)");
+    }
+  }
+
+  // ---- materials and textures ----
+
+  float unit_factor(double value, const std::string& element) const {
+    if (!std::isfinite(value) || value < 0.0 || value > 1.0) {
+      error(element, "value " + std::to_string(value) + " is outside [0, 1]");
+    }
+    return static_cast<float>(value);
+  }
+
+  C3f colour(const std::vector<double>& values, const std::string& element) const {
+    if (values.size() < 3) error(element, "expected at least 3 numbers");
+    C3f c;
+    for (int i = 0; i < 3; ++i) c[i] = unit_factor(values[i], indexed(element, i));
+    return c;
+  }
+
+  // Reads a number from a material extension object, or returns `fallback` if absent.
+  double extension_number(const tinygltf::Value& ext, const char* key, double fallback,
+                          const std::string& element) const {
+    if (!ext.Has(key)) return fallback;
+    const tinygltf::Value& v = ext.Get(key);
+    if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble())) {
+      error(element + "." + key, "expected a finite number");
+    }
+    return v.GetNumberAsDouble();
+  }
+
+  MaterialDescription material(std::size_t index) {
+    const tinygltf::Material& m = model_.materials[index];
+    const std::string element = indexed("materials", index);
+    const std::string pbr_element = element + ".pbrMetallicRoughness";
+    const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
+    MaterialDescription d;
+    d.name = m.name.empty() ? element : m.name;
+    if (pbr.baseColorFactor.size() != 4) error(pbr_element + ".baseColorFactor", "expected 4");
+    d.base_colour = colour(pbr.baseColorFactor, pbr_element + ".baseColorFactor");
+    d.alpha = unit_factor(pbr.baseColorFactor[3], pbr_element + ".baseColorFactor[3]");
+    d.metallic = unit_factor(pbr.metallicFactor, pbr_element + ".metallicFactor");
+    d.roughness = unit_factor(pbr.roughnessFactor, pbr_element + ".roughnessFactor");
+    d.base_colour_texture =
+        texture(pbr.baseColorTexture, TextureEncoding::srgb, pbr_element + ".baseColorTexture");
+    d.metallic_roughness_texture =
+        texture(pbr.metallicRoughnessTexture, TextureEncoding::linear_data,
+                pbr_element + ".metallicRoughnessTexture");
+    if (!m.emissiveFactor.empty()) {
+      d.emissive = colour(m.emissiveFactor, element + ".emissiveFactor");
+    }
+    d.emissive_texture =
+        texture(m.emissiveTexture, TextureEncoding::srgb, element + ".emissiveTexture");
+    d.double_sided = m.doubleSided;
+
+    const std::string ext_element = element + ".extensions.";
+    if (const auto* ext = find_extension(m.extensions, "KHR_materials_emissive_strength")) {
+      const std::string e = ext_element + "KHR_materials_emissive_strength";
+      const double strength = extension_number(*ext, "emissiveStrength", 1.0, e);
+      if (strength < 0.0) error(e + ".emissiveStrength", "must not be negative");
+      d.emissive *= static_cast<float>(strength);
+    }
+    if (const auto* ext = find_extension(m.extensions, "KHR_materials_transmission")) {
+      const std::string e = ext_element + "KHR_materials_transmission";
+      d.transmission = unit_factor(extension_number(*ext, "transmissionFactor", 0.0, e),
+                                   e + ".transmissionFactor");
+      if (ext->Has("transmissionTexture")) {
+        warn(e + ".transmissionTexture", "not supported; transmissionFactor is used alone");
+      }
+    }
+    if (const auto* ext = find_extension(m.extensions, "KHR_materials_ior")) {
+      const std::string e = ext_element + "KHR_materials_ior";
+      const double ior = extension_number(*ext, "ior", 1.5, e);
+      if (ior < 1.0) error(e + ".ior", "index of refraction " + std::to_string(ior) + " is < 1");
+      d.ior = static_cast<float>(ior);
+    }
+    return d;
+  }
+
+  TextureWrap wrap(int mode, const std::string& element) const {
+    switch (mode) {
+      case TINYGLTF_TEXTURE_WRAP_REPEAT:
+        return TextureWrap::repeat;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return TextureWrap::clamp_to_edge;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return TextureWrap::mirrored_repeat;
+      default:
+        error(element, "wrap mode " + std::to_string(mode) + " is invalid");
+    }
+  }
+
+  int texture(const tinygltf::TextureInfo& info, TextureEncoding encoding,
+              const std::string& element) {
+    if (info.index < 0) return -1;
+    check_index(info.index, model_.textures.size(), element + ".index", "texture");
+    if (info.texCoord != 0) {
+      warn(element + ".texCoord",
+           "TEXCOORD_" + std::to_string(info.texCoord) + " is not supported; TEXCOORD_0 is used");
+    }
+    const std::string texture_element = indexed("textures", std::size_t(info.index));
+    const tinygltf::Texture& t = model_.textures[std::size_t(info.index)];
+    if (t.source < 0) {
+      warn(texture_element, "no source image in a supported format; texture ignored");
+      return -1;
+    }
+    check_index(t.source, model_.images.size(), texture_element + ".source", "image");
+    TextureWrap wrap_s = TextureWrap::repeat;
+    TextureWrap wrap_t = TextureWrap::repeat;
+    if (t.sampler >= 0) {
+      check_index(t.sampler, model_.samplers.size(), texture_element + ".sampler", "sampler");
+      const std::string sampler_element = indexed("samplers", std::size_t(t.sampler));
+      const tinygltf::Sampler& s = model_.samplers[std::size_t(t.sampler)];
+      wrap_s = wrap(s.wrapS, sampler_element + ".wrapS");
+      wrap_t = wrap(s.wrapT, sampler_element + ".wrapT");
+    }
+    const auto key = std::make_tuple(t.source, wrap_s, wrap_t, encoding);
+    if (auto it = texture_map_.find(key); it != texture_map_.end()) return it->second;
+    TextureImage image = decode(std::size_t(t.source));
+    image.encoding = encoding;
+    image.wrap_s = wrap_s;
+    image.wrap_t = wrap_t;
+    out_.textures.push_back(std::move(image));
+    const int result = static_cast<int>(out_.textures.size() - 1);
+    texture_map_.emplace(key, result);
+    return result;
+  }
+
+  TextureImage decode(std::size_t index) const {
+    const tinygltf::Image& image = model_.images[index];
+    const std::string element = indexed("images", index);
+    if (image.width <= 0 || image.height <= 0 || image.component < 1 || image.component > 4 ||
+        (image.bits != 8 && image.bits != 16)) {
+      error(element, "image was not decoded (" + std::to_string(image.width) + "x" +
+                         std::to_string(image.height) + ", " + std::to_string(image.component) +
+                         " channels, " + std::to_string(image.bits) + " bits)");
+    }
+    const std::size_t values =
+        std::size_t(image.width) * std::size_t(image.height) * std::size_t(image.component);
+    const std::size_t bytes_per_value = std::size_t(image.bits / 8);
+    if (image.image.size() != values * bytes_per_value) {
+      error(element, "decoded image holds " + std::to_string(image.image.size()) +
+                         " bytes, expected " + std::to_string(values * bytes_per_value));
+    }
+    TextureImage out;
+    out.name = !image.name.empty() ? image.name : !image.uri.empty() && image.uri.size() < 256
+                                                      ? image.uri
+                                                      : element;
+    out.width = image.width;
+    out.height = image.height;
+    out.channels = image.component;
+    out.texels.resize(values);
+    if (image.bits == 8) {
+      for (std::size_t i = 0; i < values; ++i) out.texels[i] = image.image[i] / 255.0f;
+    } else {
+      for (std::size_t i = 0; i < values; ++i) {
+        uint16_t v;
+        std::memcpy(&v, image.image.data() + 2 * i, 2);
+        out.texels[i] = v / 65535.0f;
+      }
+    }
+    return out;
+  }
+
+  // ---- meshes ----
+
+  // Returns the index in out_.meshes, converting the glTF mesh on first use, or -1 for a mesh
+  // whose every primitive was skipped (points, lines): it has nothing to render.
+  int mesh(int index, const std::string& node_element) {
+    check_index(index, model_.meshes.size(), node_element + ".mesh", "mesh");
+    constexpr int kNotConverted = -2;
+    int& mapped = mesh_map_[std::size_t(index)];
+    if (mapped == kNotConverted) {
+      Mesh converted = convert_mesh(std::size_t(index));
+      if (converted.primitives.empty()) {
+        mapped = -1;
+      } else {
+        out_.meshes.push_back(std::move(converted));
+        mapped = static_cast<int>(out_.meshes.size() - 1);
+      }
+    }
+    return mapped;
+  }
+
+  Mesh convert_mesh(std::size_t index) {
+    const tinygltf::Mesh& m = model_.meshes[index];
+    const std::string element = indexed("meshes", index);
+    Mesh out;
+    out.name = m.name.empty() ? element : m.name;
+    for (std::size_t p = 0; p < m.primitives.size(); ++p) {
+      Primitive primitive;
+      if (convert_primitive(m.primitives[p], indexed(element + ".primitives", p), primitive)) {
+        out.primitives.push_back(std::move(primitive));
+      }
+    }
+    return out;
+  }
+
+  // Returns false for primitives that are skipped (with a warning).
+  bool convert_primitive(const tinygltf::Primitive& in, const std::string& element,
+                         Primitive& out) {
+    static const char* const kModeNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
+    const int mode = in.mode < 0 ? TINYGLTF_MODE_TRIANGLES : in.mode;
+    if (mode > TINYGLTF_MODE_TRIANGLE_FAN) {
+      error(element + ".mode", "mode " + std::to_string(mode) + " is invalid");
+    }
+    if (mode < TINYGLTF_MODE_TRIANGLES) {
+      warn(element, std::string("mode ") + kModeNames[mode] + " is not rendered; skipped");
+      return false;
+    }
+    if (in.material >= 0) {
+      check_index(in.material, model_.materials.size(), element + ".material", "material");
+    }
+    out.material = in.material;
+
+    const auto position = in.attributes.find("POSITION");
+    if (position == in.attributes.end()) error(element + ".attributes", "POSITION is missing");
+    const AccessorView positions =
+        view_accessor(model_, position->second, element + ".attributes.POSITION", file_);
+    out.positions = read_vec3_float(positions, "POSITION", file_);
+    for (std::size_t i = 0; i < out.positions.size(); ++i) {
+      if (!finite(out.positions[i])) {
+        error(positions.element(), "vertex " + std::to_string(i) + " position is not finite");
+      }
+    }
+    const std::size_t vertices = out.positions.size();
+    if (vertices > std::numeric_limits<uint32_t>::max()) {
+      error(positions.element(), "too many vertices");
+    }
+
+    auto attribute = [&](const char* name) -> std::optional<AccessorView> {
+      const auto it = in.attributes.find(name);
+      if (it == in.attributes.end()) return std::nullopt;
+      const std::string attr_element = element + ".attributes." + name;
+      AccessorView view = view_accessor(model_, it->second, attr_element, file_);
+      if (view.count != vertices) {
+        error(attr_element, std::string(name) + " has " + std::to_string(view.count) +
+                                " elements but POSITION has " + std::to_string(vertices));
+      }
+      return view;
+    };
+    if (const auto normals = attribute("NORMAL")) {
+      out.normals = read_vec3_float(*normals, "NORMAL", file_);
+      for (std::size_t i = 0; i < out.normals.size(); ++i) {
+        V3f& n = out.normals[i];
+        const float length = n.length();
+        if (!finite(n) || !std::isfinite(length) || length <= 0.0f) {
+          warn(normals->element(), "normal " + std::to_string(i) +
+                                       " is zero or not finite; the primitive's normals are "
+                                       "dropped and flat normals used");
+          out.normals.clear();
+          break;
+        }
+        n /= length;
+      }
+    }
+    if (const auto uv = attribute("TEXCOORD_0")) {
+      out.uv0 = read_texcoords(*uv, file_);
+      for (std::size_t i = 0; i < out.uv0.size(); ++i) {
+        if (!std::isfinite(out.uv0[i].x) || !std::isfinite(out.uv0[i].y)) {
+          error(uv->element(), "texture coordinate " + std::to_string(i) + " is not finite");
+        }
+      }
+    }
+
+    std::vector<uint32_t> indices;
+    if (in.indices >= 0) {
+      const AccessorView view = view_accessor(model_, in.indices, element + ".indices", file_);
+      indices = read_indices(view, file_);
+      for (std::size_t i = 0; i < indices.size(); ++i) {
+        if (indices[i] >= vertices) {
+          error(element + ".indices", "index " + std::to_string(indices[i]) + " at position " +
+                                          std::to_string(i) + " out of range (" +
+                                          std::to_string(vertices) + " vertices)");
+        }
+      }
+    } else {
+      indices.resize(vertices);
+      for (std::size_t i = 0; i < vertices; ++i) indices[i] = static_cast<uint32_t>(i);
+    }
+
+    const std::size_t n = indices.size();
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      if (n % 3 != 0) {
+        error(element, std::to_string(n) + (in.indices >= 0 ? " indices" : " vertices") +
+                           " do not make whole TRIANGLES (not a multiple of 3)");
+      }
+      out.indices = std::move(indices);
+    } else if (n >= 3) {
+      out.indices.reserve(3 * (n - 2));
+      for (std::size_t i = 0; i + 2 < n; ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+          // glTF's strip rule keeps every triangle counter-clockwise.
+          out.indices.insert(out.indices.end(),
+                             {indices[i], indices[i + 1 + i % 2], indices[i + 2 - i % 2]});
+        } else {
+          out.indices.insert(out.indices.end(), {indices[i + 1], indices[i + 2], indices[0]});
+        }
+      }
+    }
+    if (out.indices.empty()) {
+      warn(element, "fewer than 3 vertices; skipped");
+      return false;
+    }
+    return true;
+  }
+
+  // ---- nodes ----
+
+  std::vector<int> scene_roots() {
+    const std::size_t node_count = model_.nodes.size();
+    // glTF requires the nodes to form disjoint trees; checking it up front turns shared
+    // children (which would otherwise be visited repeatedly, exponentially in the worst case)
+    // into an error.
+    std::vector<int> parent(node_count, -1);
+    for (std::size_t i = 0; i < node_count; ++i) {
+      const std::vector<int>& children = model_.nodes[i].children;
+      for (std::size_t c = 0; c < children.size(); ++c) {
+        const std::string element = indexed(indexed("nodes", i) + ".children", c);
+        check_index(children[c], node_count, element, "node");
+        int& p = parent[std::size_t(children[c])];
+        if (p >= 0) {
+          error(indexed("nodes", std::size_t(children[c])),
+                "node has more than one parent (nodes[" + std::to_string(p) + "] and nodes[" +
+                    std::to_string(i) + "])");
+        }
+        p = static_cast<int>(i);
+      }
+    }
+
+    if (model_.scenes.empty()) {
+      if (model_.defaultScene >= 0) {
+        error("scene", "scene " + std::to_string(model_.defaultScene) +
+                           " out of range (the file has no scenes)");
+      }
+      std::vector<int> roots;
+      for (std::size_t i = 0; i < node_count; ++i) {
+        if (parent[i] < 0) roots.push_back(static_cast<int>(i));
+      }
+      warn("scenes", "the file has no scenes; all " + std::to_string(roots.size()) +
+                         " root nodes are rendered");
+      return roots;
+    }
+    std::size_t scene = 0;
+    if (model_.defaultScene >= 0) {
+      check_index(model_.defaultScene, model_.scenes.size(), "scene", "scene");
+      scene = std::size_t(model_.defaultScene);
+    }
+    const std::string element = indexed("scenes", scene);
+    const std::vector<int>& roots = model_.scenes[scene].nodes;
+    for (std::size_t i = 0; i < roots.size(); ++i) {
+      check_index(roots[i], node_count, indexed(element + ".nodes", i), "node");
+    }
+    if (roots.empty()) warn(element, "the scene has no nodes");
+    return roots;
+  }
+
+  M44d local_matrix(const tinygltf::Node& node, const std::string& element) const {
+    M44d m;  // identity
+    if (!node.matrix.empty()) {
+      if (node.matrix.size() != 16) error(element + ".matrix", "expected 16 numbers");
+      for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) m[i][j] = node.matrix[std::size_t(4 * i + j)];
+      }
+      if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0) {
+        error(element + ".matrix", "not an affine transform (bottom row must be 0 0 0 1)");
+      }
+      return m;
+    }
+    double s[3] = {1.0, 1.0, 1.0};
+    if (!node.scale.empty()) {
+      if (node.scale.size() != 3) error(element + ".scale", "expected 3 numbers");
+      std::copy(node.scale.begin(), node.scale.end(), s);
+    }
+    double x = 0.0, y = 0.0, z = 0.0, w = 1.0;
+    if (!node.rotation.empty()) {
+      if (node.rotation.size() != 4) error(element + ".rotation", "expected 4 numbers");
+      const double length = std::sqrt(node.rotation[0] * node.rotation[0] +
+                                      node.rotation[1] * node.rotation[1] +
+                                      node.rotation[2] * node.rotation[2] +
+                                      node.rotation[3] * node.rotation[3]);
+      if (!std::isfinite(length) || length < 1e-12) {
+        error(element + ".rotation", "not a unit quaternion");
+      }
+      // Exporters round quaternions to float precision; renormalising avoids a slight scale.
+      x = node.rotation[0] / length;
+      y = node.rotation[1] / length;
+      z = node.rotation[2] / length;
+      w = node.rotation[3] / length;
+    }
+    // The column-vector rotation matrix, stored transposed for Imath's row vectors.
+    const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                            {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                            {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) m[i][j] = s[i] * r[j][i];
+    }
+    if (!node.translation.empty()) {
+      if (node.translation.size() != 3) error(element + ".translation", "expected 3 numbers");
+      for (int j = 0; j < 3; ++j) m[3][j] = node.translation[std::size_t(j)];
+    }
+    return m;
+  }
+
+  void traverse(const std::vector<int>& roots) {
+    struct Item {
+      int node;
+      int parent;
+      M44d parent_world;
+    };
+    // Explicit stack: a deep (or hostile) hierarchy must not overflow the call stack.
+    std::vector<Item> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, -1, M44d()});
+    std::vector<int> parent_of(model_.nodes.size(), -1);
+    std::vector<bool> visited(model_.nodes.size(), false);
+    while (!stack.empty()) {
+      const Item item = stack.back();
+      stack.pop_back();
+      const std::size_t index = std::size_t(item.node);
+      const std::string element = indexed("nodes", index);
+      if (visited[index]) {
+        for (int a = item.parent; a >= 0; a = parent_of[std::size_t(a)]) {
+          if (a == item.node) {
+            error(element, "the node hierarchy has a cycle (the node is its own ancestor)");
+          }
+        }
+        error(element, "node is reached twice (listed as a scene root more than once, or both "
+                       "a root and a child)");
+      }
+      visited[index] = true;
+      parent_of[index] = item.parent;
+      const tinygltf::Node& node = model_.nodes[index];
+      const M44d world = local_matrix(node, element) * item.parent_world;
+      if (!finite(world)) error(element, "world transform is not finite");
+      visit(node, index, world);
+      for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) {
+        stack.push_back({*it, item.node, world});
+      }
+    }
+  }
+
+  void visit(const tinygltf::Node& node, std::size_t index, const M44d& world) {
+    const std::string element = indexed("nodes", index);
+    const std::string name = node.name.empty() ? element : node.name;
+    const tinygltf::Value* sphere_ext = find_extension(node.extensions, "PRISM_sphere");
+    if (sphere_ext) {
+      sphere(*sphere_ext, node, element, name, world);
+    } else if (node.mesh >= 0) {
+      if (const int m = mesh(node.mesh, element); m >= 0) {
+        out_.instances.push_back({m, world, name});
+      }
+      if (node.skin >= 0) warn(element + ".skin", "skinning is not supported; bind pose used");
+    }
+    if (node.camera >= 0) camera(node.camera, element, world);
+    if (const auto* light_ext = find_extension(node.extensions, "KHR_lights_punctual")) {
+      const std::string e = element + ".extensions.KHR_lights_punctual.light";
+      if (!light_ext->Has("light") || !light_ext->Get("light").IsInt()) {
+        error(e, "expected a light index");
+      }
+      light(light_ext->Get("light").GetNumberAsInt(), e, world);
+    }
+  }
+
+  void sphere(const tinygltf::Value& ext, const tinygltf::Node& node, const std::string& element,
+              const std::string& name, const M44d& world) {
+    const std::string e = element + ".extensions.PRISM_sphere";
+    if (!ext.Has("radius") || !ext.Get("radius").IsNumber()) {
+      error(e + ".radius", "expected a number");
+    }
+    const double radius = ext.Get("radius").GetNumberAsDouble();
+    if (!std::isfinite(radius) || radius <= 0.0) {
+      error(e + ".radius", "radius " + std::to_string(radius) + " must be finite and > 0");
+    }
+    Sphere s;
+    s.node_name = name;
+    s.centre = V3d(world[3][0], world[3][1], world[3][2]);
+    V3d axes[3];
+    double largest = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      axes[i] = V3d(world[i][0], world[i][1], world[i][2]);
+      largest = std::max(largest, axes[i].length());
+    }
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i + 1; j < 3; ++j) {
+        const bool same_length =
+            std::abs(axes[i].length() - axes[j].length()) <= 1e-6 * largest;
+        const bool orthogonal = std::abs(axes[i].dot(axes[j])) <= 1e-6 * largest * largest;
+        if (!same_length || !orthogonal) {
+          error(element, "PRISM_sphere needs a uniform world scale, but the node's axes scale by " +
+                             std::to_string(axes[0].length()) + ", " +
+                             std::to_string(axes[1].length()) + ", " +
+                             std::to_string(axes[2].length()) +
+                             (same_length ? " and are sheared" : ""));
+        }
+      }
+    }
+    s.radius = radius * (axes[0].length() + axes[1].length() + axes[2].length()) / 3.0;
+    if (!(s.radius > 0.0) || !std::isfinite(s.radius)) {
+      error(element, "PRISM_sphere's world radius " + std::to_string(s.radius) + " is not > 0");
+    }
+    if (ext.Has("material")) {
+      const tinygltf::Value& m = ext.Get("material");
+      if (!m.IsInt()) error(e + ".material", "expected a material index");
+      s.material = m.GetNumberAsInt();
+      check_index(s.material, model_.materials.size(), e + ".material", "material");
+    } else if (node.mesh >= 0) {
+      check_index(node.mesh, model_.meshes.size(), element + ".mesh", "mesh");
+      const tinygltf::Mesh& m = model_.meshes[std::size_t(node.mesh)];
+      if (!m.primitives.empty() && m.primitives[0].material >= 0) {
+        s.material = m.primitives[0].material;
+        check_index(s.material, model_.materials.size(),
+                    indexed("meshes", std::size_t(node.mesh)) + ".primitives[0].material",
+                    "material");
+      }
+    }
+    out_.spheres.push_back(s);
+  }
+
+  void camera(int index, const std::string& node_element, const M44d& world) {
+    check_index(index, model_.cameras.size(), node_element + ".camera", "camera");
+    const tinygltf::Camera& c = model_.cameras[std::size_t(index)];
+    const std::string element = indexed("cameras", std::size_t(index));
+    CameraDescription d;
+    d.name = c.name.empty() ? element : c.name;
+    d.camera_to_world = world;
+    if (c.type == "perspective") {
+      const std::string e = element + ".perspective";
+      d.projection = Projection::perspective;
+      d.yfov = c.perspective.yfov;
+      if (!(d.yfov > 0.0 && d.yfov < kPi)) {
+        error(e + ".yfov", "field of view " + std::to_string(d.yfov) + " is not in (0, pi)");
+      }
+      d.aspect_ratio = c.perspective.aspectRatio;
+      if (!(d.aspect_ratio >= 0.0) || !std::isfinite(d.aspect_ratio)) {
+        error(e + ".aspectRatio", "must be > 0");
+      }
+      d.znear = c.perspective.znear;
+      if (!(d.znear > 0.0) || !std::isfinite(d.znear)) error(e + ".znear", "must be > 0");
+    } else if (c.type == "orthographic") {
+      const std::string e = element + ".orthographic";
+      d.projection = Projection::orthographic;
+      d.xmag = c.orthographic.xmag;
+      d.ymag = c.orthographic.ymag;
+      d.znear = c.orthographic.znear;
+      if (!(d.xmag > 0.0) || !std::isfinite(d.xmag)) error(e + ".xmag", "must be > 0");
+      if (!(d.ymag > 0.0) || !std::isfinite(d.ymag)) error(e + ".ymag", "must be > 0");
+      if (!(d.znear >= 0.0) || !std::isfinite(d.znear)) error(e + ".znear", "must be >= 0");
+    } else {
+      error(element + ".type", "unknown camera type \"" + c.type + "\"");
+    }
+    out_.cameras.push_back(d);
+  }
+
+  void light(int index, const std::string& node_element, const M44d& world) {
+    check_index(index, model_.lights.size(), node_element, "light");
+    const tinygltf::Light& l = model_.lights[std::size_t(index)];
+    const std::string element =
+        indexed("extensions.KHR_lights_punctual.lights", std::size_t(index));
+    Light d;
+    d.name = l.name.empty() ? element : l.name;
+    if (l.type == "directional") {
+      d.type = LightType::directional;
+    } else if (l.type == "point") {
+      d.type = LightType::point;
+    } else if (l.type == "spot") {
+      d.type = LightType::spot;
+    } else {
+      error(element + ".type", "unknown light type \"" + l.type + "\"");
+    }
+    if (!l.color.empty()) {
+      if (l.color.size() != 3) error(element + ".color", "expected 3 numbers");
+      for (int i = 0; i < 3; ++i) {
+        const double c = l.color[std::size_t(i)];
+        if (!std::isfinite(c) || c < 0.0) error(indexed(element + ".color", i), "must be >= 0");
+        d.colour[i] = static_cast<float>(c);
+      }
+    }
+    if (!std::isfinite(l.intensity) || l.intensity < 0.0) {
+      error(element + ".intensity", "must be finite and >= 0");
+    }
+    d.intensity = static_cast<float>(l.intensity);
+    if (!std::isfinite(l.range) || l.range < 0.0) error(element + ".range", "must be > 0");
+    d.range = l.range;
+    if (d.type == LightType::spot) {
+      d.inner_cone_angle = l.spot.innerConeAngle;
+      d.outer_cone_angle = l.spot.outerConeAngle;
+      if (!(d.inner_cone_angle >= 0.0 && d.inner_cone_angle < d.outer_cone_angle &&
+            d.outer_cone_angle <= kPi / 2 + 1e-9)) {
+        error(element + ".spot", "needs 0 <= innerConeAngle < outerConeAngle <= pi/2, got " +
+                                     std::to_string(d.inner_cone_angle) + " and " +
+                                     std::to_string(d.outer_cone_angle));
+      }
+    }
+    d.position = V3d(world[3][0], world[3][1], world[3][2]);
+    const V3d forward(-world[2][0], -world[2][1], -world[2][2]);
+    const double length = forward.length();
+    if (!(length > 1e-300) || !std::isfinite(length)) {
+      if (d.type != LightType::point) {
+        error(node_element, "the node's transform collapses the light's direction");
+      }
+    } else {
+      d.direction = forward / length;
+    }
+    out_.lights.push_back(d);
+  }
+
+  const tinygltf::Model& model_;
+  const std::string& file_;
+  SceneDescription& out_;
+  std::vector<int> mesh_map_;
+  std::map<std::tuple<int, TextureWrap, TextureWrap, TextureEncoding>, int> texture_map_;
+};
+
+SceneDescription load(const std::string& path) {
+  SceneDescription scene;
+  scene.source_path = path;
+  const std::vector<unsigned char> bytes = read_file(path);
+  const bool binary = is_glb(bytes);
+  const std::string json_text =
+      binary ? glb_json(bytes, path) : std::string(bytes.begin(), bytes.end());
+  const nlohmann::json root = parse_json(json_text, path);
+  check_gltf_json(root, path, scene.warnings);
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+  check_external_files(root, base.empty() ? std::filesystem::path(".") : base, path);
+
+  tinygltf::TinyGLTF loader;
+  loader.SetPreserveImageChannels(true);
+  tinygltf::Model model;
+  std::string err;
+  std::string warn;
+  const std::string base_dir = base.string();
+  bool ok = false;
+  if (binary) {
+    ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
+                                     static_cast<unsigned int>(bytes.size()), base_dir);
+  } else {
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(),
+                                    static_cast<unsigned int>(json_text.size()), base_dir);
+  }
+  // tinygltf also reports some problems (such as a missing required property) in `err` while
+  // returning true; the model is then incomplete, so both count as failure.
+  if (!ok || !err.empty()) fail(path, "glTF", err.empty() ? "tinygltf failed to load" : err);
+  if (!warn.empty()) scene.warnings.push_back(one_line(path + ": glTF: " + warn));
+
+  Converter(model, path, scene).convert();
+  return scene;
+}
+
+}  // namespace
+
+SceneDescription load_gltf(const std::string& path) {
+  try {
+    return load(path);
+  } catch (const LoadError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // tinygltf and nlohmann throw on some malformed input (and std::bad_alloc is possible on
+    // absurd sizes); the caller only needs to know the file could not be loaded.
+    throw LoadError(one_line(path + ": glTF: " + e.what()));
+  } catch (...) {
+    throw LoadError(one_line(path + ": glTF: unknown error while loading"));
+  }
+}
+
+}  // namespace prism

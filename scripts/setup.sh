@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs, from Debian 12's archive, exactly the packages Prism builds, tests and
+# renders with. Idempotent: packages already present are not touched, and apt is
+# only called when something is missing.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  g++ cmake pkg-config ninja-build
+  # renderer dependencies
+  libembree-dev libtbb-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev
+  libopencolorio-dev opencolorio-tools
+  libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libcli11-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+  # real glTF files (good and broken) the tests load
+  assimp-testmodels
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all ${#PACKAGES[@]} packages present"
+fi

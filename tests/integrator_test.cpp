@@ -1,0 +1,283 @@
+// Integrators against scenes with analytic answers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "integrators/integrators.h"
+#include "renderer/material.h"
+#include "tests/test_scenes.h"
+
+namespace prism {
+namespace {
+
+using testing::lambert_like;
+using testing::ortho_camera_looking_down_y;
+using testing::ortho_camera_looking_down_z;
+using testing::quad_mesh;
+using testing::render_scene;
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+SceneDescription disc_scene() {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(0.5f));
+  scene.spheres.push_back(Sphere{V3d(0.0, 0.0, 0.0), 1.0, 0, "ball"});
+  Light sun;
+  sun.type = LightType::directional;
+  sun.intensity = kPi;
+  sun.direction = V3d(0.0, 0.0, -1.0);  // travelling away from the camera
+  scene.lights.push_back(sun);
+  scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.05));
+  return scene;
+}
+
+struct DiscMeasurement {
+  double centre = 0.0;
+  double mean = 0.0;
+  double covered_pixels = 0.0;
+};
+
+DiscMeasurement measure_disc(const Image& image) {
+  DiscMeasurement m;
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const float* p = image.pixel(x, y);
+      sum += p[0];
+      m.covered_pixels += p[3];
+    }
+  }
+  m.mean = sum / m.covered_pixels;
+  m.centre = image.pixel(image.width / 2, image.height / 2)[0];
+  return m;
+}
+
+// Lit straight from the viewer, a Lambertian sphere's radiance is proportional to
+// cos(theta) = sqrt(1 - r^2) over the projected disc, whose mean is 2/3 of the centre value.
+// The specular lobe at roughness 1 is uniform (n = 0), so it follows the same cosine law.
+TEST(OrthographicDisc, MeanIsTwoThirdsOfCentreInEverySphereMode) {
+  const auto integrator = make_integrator(IntegratorKind::shadow);
+  RenderSettings settings;
+  settings.width = settings.height = 401;  // odd: one pixel centre sits on the disc's centre
+  for (const char* mode : {"analytic", "embree-points", "mesh:6"}) {
+    SCOPED_TRACE(mode);
+    GeometryOptions options;
+    ASSERT_TRUE(parse_sphere_options(mode, &options.spheres, nullptr));
+    const auto r = render_scene(disc_scene(), *integrator, settings, options);
+    const DiscMeasurement m = measure_disc(r.image);
+    // Centre: (rho (1 - F0) + F0) / pi * E with rho = 0.5, F0 = 0.04, E = pi.
+    const double expected_centre = 0.5 * 0.96 + 0.04;
+    // Mesh level 6 puts a vertex at the centre; the relative error of the pixel-grid mean is
+    // dominated by the silhouette pixels (about 1/401 of the radius).
+    EXPECT_NEAR(m.centre, expected_centre, 1e-5 * expected_centre);
+    EXPECT_NEAR(m.mean / m.centre, 2.0 / 3.0, 2e-3);
+    // One spp through pixel centres: coverage counts pixel centres inside the disc, within
+    // a perimeter's worth of pixels of the disc's area pi r^2.
+    const double pixels_per_unit = 401.0 / 2.1;
+    const double area = kPi * pixels_per_unit * pixels_per_unit;
+    // (The lattice-point error of a circle grows like r^(2/3); 5% of the perimeter is ~60 px.)
+    EXPECT_NEAR(m.covered_pixels, area, 0.05 * 2.0 * kPi * pixels_per_unit);
+  }
+}
+
+// glTF point lights are in candela: a Lambertian plane at distance h straight below a light
+// of intensity I receives E = I / h^2 and, with albedo 1 (diffuse 0.96 plus the uniform
+// 0.04 lobe at roughness 1), reflects L = E / pi.
+TEST(LightUnits, PointLightIrradianceIsIntensityOverDistanceSquared) {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(1.0f));
+  scene.meshes.push_back(quad_mesh(10.0f, 0.0f, 0));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  Light bulb;
+  bulb.type = LightType::point;
+  bulb.intensity = 25.0f;
+  bulb.position = V3d(0.0, 2.0, 0.0);
+  scene.lights.push_back(bulb);
+  scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 4.0));
+  RenderSettings settings;
+  settings.width = settings.height = 81;
+  const auto integrator = make_integrator(IntegratorKind::phong);
+  const auto r = render_scene(scene, *integrator, settings);
+  const float centre = r.image.pixel(40, 40)[0];
+  EXPECT_NEAR(centre, 25.0f / 4.0f / kPi, 1e-5f * centre);
+  // A pixel at horizontal distance x: E = I cos(theta) / d^2 = I h / d^3.
+  const double x = (2.0 * (60 + 0.5) / 81.0 - 1.0) * 4.0;  // pixel column 60's centre
+  const double d = std::sqrt(x * x + 4.0);
+  EXPECT_NEAR(r.image.pixel(60, 40)[0], 25.0 * 2.0 / (d * d * d) / kPi, 1e-5);
+
+  // The same light with a range: glTF's window (1 - (d/range)^4)^2 on top of 1/d^2.
+  scene.lights[0].range = 4.0;
+  const auto ranged = render_scene(scene, *integrator, settings);
+  const double window = std::pow(1.0 - std::pow(2.0 / 4.0, 4.0), 2.0);
+  EXPECT_NEAR(ranged.image.pixel(40, 40)[0], centre * window, 1e-5);
+}
+
+TEST(LightUnits, SpotConeFallsOffBetweenInnerAndOuterAngle) {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(1.0f));
+  scene.meshes.push_back(quad_mesh(10.0f, 0.0f, 0));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  Light spot;
+  spot.type = LightType::spot;
+  spot.intensity = 10.0f;
+  spot.position = V3d(0.0, 1.0, 0.0);
+  spot.direction = V3d(0.0, -1.0, 0.0);
+  spot.inner_cone_angle = 0.2;
+  spot.outer_cone_angle = 0.6;
+  scene.lights.push_back(spot);
+  scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 2.0));
+  RenderSettings settings;
+  settings.width = settings.height = 101;
+  const auto r = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
+  EXPECT_NEAR(r.image.pixel(50, 50)[0], 10.0f / kPi, 1e-5f);  // inside the inner cone
+  // Beyond tan(0.6) = 0.684 from the axis nothing arrives: pixel column 50 + 40 is at 1.6.
+  EXPECT_EQ(r.image.pixel(90, 50)[0], 0.0f);
+  // Between the cones, the smooth step t^2 of glTF's recommendation.
+  const double x = (2.0 * (50 + 20 + 0.5) / 101.0 - 1.0) * 2.0;
+  const double angle = std::atan(x);
+  ASSERT_GT(angle, 0.2);
+  ASSERT_LT(angle, 0.6);
+  const double t = (std::cos(angle) - std::cos(0.6)) / (std::cos(0.2) - std::cos(0.6));
+  const double d2 = x * x + 1.0;
+  EXPECT_NEAR(r.image.pixel(70, 50)[0], 10.0 * t * t / d2 * std::cos(angle) / kPi, 1e-5);
+}
+
+// A ball over a floor, lit and seen from straight above: only `shadow` casts shadow rays,
+// one per hit facing the light.
+TEST(ShadowIntegrator, OccluderDarkensTheFloorAndCountsItsRays) {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(1.0f));
+  scene.meshes.push_back(quad_mesh(10.0f, 0.0f, 0));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  scene.spheres.push_back(Sphere{V3d(0.0, 2.0, 0.0), 0.5, 0, "ball"});
+  Light sun;
+  sun.type = LightType::directional;
+  sun.intensity = 1.0f;
+  sun.direction = V3d(0.0, -1.0, 0.0);
+  scene.lights.push_back(sun);
+  scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 2.0));
+  RenderSettings settings;
+  settings.width = settings.height = 41;
+  const auto phong = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
+  const auto shadow = render_scene(scene, *make_integrator(IntegratorKind::shadow), settings);
+  EXPECT_EQ(phong.result.rays.shadow, 0u);
+  EXPECT_EQ(shadow.result.rays.camera, 41u * 41u);
+  // Every camera ray hits the floor or the ball, all facing the light.
+  EXPECT_EQ(shadow.result.rays.shadow, 41u * 41u);
+  // Pixel (0, 0) sees the lit floor, well outside the ball's shadow.
+  EXPECT_NEAR(shadow.image.pixel(0, 0)[0], 1.0f / kPi, 1e-6f);
+  // Seen from the light's own direction the ball hides its whole shadow, so the two images
+  // agree exactly: no shadow ray may find a false occluder (self-intersection).
+  EXPECT_EQ(0, std::memcmp(phong.image.rgba.data(), shadow.image.rgba.data(),
+                           phong.image.rgba.size() * sizeof(float)));
+}
+
+TEST(ShadowIntegrator, ObliqueLightCastsTheBallsShadowOnTheFloor) {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(1.0f));
+  scene.meshes.push_back(quad_mesh(10.0f, 0.0f, 0));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  scene.spheres.push_back(Sphere{V3d(0.0, 1.0, 0.0), 0.5, 0, "ball"});
+  Light sun;
+  sun.type = LightType::directional;
+  sun.intensity = 1.0f;
+  sun.direction = V3d(1.0, -1.0, 0.0).normalized();  // shadow centre lands at x = +1
+  scene.lights.push_back(sun);
+  scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 2.0));
+  RenderSettings settings;
+  settings.width = settings.height = 41;  // 0.1 units per pixel, centre pixel 20
+  const auto phong = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
+  const auto shadow = render_scene(scene, *make_integrator(IntegratorKind::shadow), settings);
+  const float lit = std::cos(kPi / 4.0f) / kPi;
+  // x = +1 (column 30): in the shadow's centre for `shadow`, lit for `phong`.
+  EXPECT_NEAR(phong.image.pixel(30, 20)[0], lit, 1e-6f);
+  EXPECT_EQ(shadow.image.pixel(30, 20)[0], 0.0f);
+  // x = -1 (column 10): lit for both.
+  EXPECT_NEAR(shadow.image.pixel(10, 20)[0], lit, 1e-6f);
+}
+
+// A perfect white metal mirror (metallic 1, roughness 0) seen head-on reflects the
+// background exactly: Schlick's F with F0 = 1 is 1 at every angle.
+TEST(WhittedIntegrator, MirrorSphereReflectsTheBackground) {
+  SceneDescription scene;
+  MaterialDescription mirror;
+  mirror.base_colour = C3f(1.0f, 1.0f, 1.0f);
+  mirror.metallic = 1.0f;
+  mirror.roughness = 0.0f;
+  scene.materials.push_back(mirror);
+  scene.spheres.push_back(Sphere{V3d(0.0, 0.0, 0.0), 1.0, 0, "mirror"});
+  scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.2));
+  RenderSettings settings;
+  settings.width = settings.height = 31;
+  settings.background = V3f(0.25f, 0.5f, 0.75f);
+  const auto r = render_scene(scene, *make_integrator(IntegratorKind::whitted), settings);
+  const float* centre = r.image.pixel(15, 15);
+  EXPECT_FLOAT_EQ(centre[0], 0.25f);
+  EXPECT_FLOAT_EQ(centre[1], 0.5f);
+  EXPECT_FLOAT_EQ(centre[2], 0.75f);
+  EXPECT_EQ(centre[3], 1.0f);
+  EXPECT_GT(r.result.rays.reflection, 0u);
+  EXPECT_EQ(r.result.rays.refraction, 0u);
+  EXPECT_EQ(r.result.rays.shadow, 0u);  // no lights, no shadow rays
+}
+
+// A clear glass sphere neither absorbs nor emits: every path ends in the background, so the
+// image of a uniform background through it can only lose energy to the depth limit, never
+// gain any, and the loss shrinks as the depth grows.
+TEST(WhittedIntegrator, GlassSphereConservesEnergy) {
+  SceneDescription scene;
+  MaterialDescription glass;
+  glass.metallic = 0.0f;
+  glass.roughness = 0.0f;
+  glass.transmission = 1.0f;
+  glass.ior = 1.5f;
+  scene.materials.push_back(glass);
+  scene.spheres.push_back(Sphere{V3d(0.0, 0.0, 0.0), 1.0, 0, "glass"});
+  scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.2));
+  RenderSettings settings;
+  settings.width = settings.height = 31;
+  settings.background = V3f(1.0f);
+  double previous_loss = 1.0;
+  for (int depth : {2, 4, 8, 16}) {
+    settings.max_depth = depth;
+    const auto r = render_scene(scene, *make_integrator(IntegratorKind::whitted), settings);
+    double worst = 0.0;
+    for (size_t i = 0; i < r.image.rgba.size(); i += 4) {
+      ASSERT_TRUE(std::isfinite(r.image.rgba[i]));
+      ASSERT_LE(r.image.rgba[i], 1.0f + 1e-6f) << "energy gained at depth " << depth;
+      worst = std::max(worst, 1.0 - r.image.rgba[i]);
+    }
+    EXPECT_LE(worst, previous_loss);
+    previous_loss = worst;
+    // Head-on: 0.04 reflected at entry, then 0.96 * 0.96 through, plus the internal echoes.
+    if (depth == 16) EXPECT_NEAR(r.image.pixel(15, 15)[0], 1.0f, 1e-5f);
+  }
+  EXPECT_LT(previous_loss, 1e-3);
+}
+
+TEST(Determinism, ImageIsBitIdenticalWithOneAndTwoThreads) {
+  SceneDescription scene = disc_scene();
+  scene.materials[0].roughness = 0.3f;
+  scene.meshes.push_back(quad_mesh(5.0f, -1.0f, 0));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  RenderSettings settings;
+  settings.width = 97;
+  settings.height = 61;
+  settings.spp = 4;
+  settings.tile_size = 8;
+  const auto whitted = make_integrator(IntegratorKind::whitted);
+  settings.threads = 1;
+  const auto one = render_scene(scene, *whitted, settings);
+  settings.threads = 2;
+  settings.tile_size = 16;
+  const auto two = render_scene(scene, *whitted, settings);
+  ASSERT_EQ(one.image.rgba.size(), two.image.rgba.size());
+  EXPECT_EQ(0, std::memcmp(one.image.rgba.data(), two.image.rgba.data(),
+                           one.image.rgba.size() * sizeof(float)));
+  EXPECT_EQ(one.result.rays.total(), two.result.rays.total());
+}
+
+}  // namespace
+}  // namespace prism

@@ -1,0 +1,110 @@
+// Fresnel, refraction, the ray offset and the material mapping's energy bounds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "renderer/material.h"
+#include "renderer/math.h"
+
+namespace prism {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+TEST(Fresnel, DielectricValuesAndTotalInternalReflection) {
+  float cos_t = 0.0f;
+  EXPECT_NEAR(fresnel_dielectric(1.0f, 1.5f, &cos_t), 0.04f, 1e-6f);
+  EXPECT_FLOAT_EQ(cos_t, 1.0f);
+  EXPECT_NEAR(fresnel_dielectric(std::cos(45.0 * kDeg), 1.5f, &cos_t), 0.0502, 5e-5);
+  EXPECT_NEAR(std::acos(cos_t) / kDeg, 28.1255, 1e-3);
+  EXPECT_EQ(fresnel_dielectric(std::cos(45.0 * kDeg), 1.0f / 1.5f, &cos_t), 1.0f);  // TIR
+  EXPECT_EQ(cos_t, 0.0f);
+  EXPECT_NEAR(fresnel_dielectric(std::cos(10.0 * kDeg), 1.0f / 1.5f, &cos_t), 0.0401, 5e-5);
+  EXPECT_NEAR(std::acos(cos_t) / kDeg, 15.0981, 1e-3);
+  // A negative cosine means the light arrives from the other side: eta is inverted.
+  EXPECT_FLOAT_EQ(fresnel_dielectric(-std::cos(10.0f * kDeg), 1.5f),
+                  fresnel_dielectric(std::cos(10.0f * kDeg), 1.0f / 1.5f));
+}
+
+TEST(Refraction, FollowsSnellsLaw) {
+  for (double angle : {0.0, 10.0, 30.0, 45.0, 60.0, 80.0}) {
+    for (float eta : {1.5f, 1.0f / 1.5f, 1.33f}) {
+      const V3f d(static_cast<float>(std::sin(angle * kDeg)), static_cast<float>(-std::cos(angle * kDeg)), 0.0f);
+      V3f t;
+      const double sin_t_expected = std::sin(angle * kDeg) / eta;
+      const bool refracted = refract(d, V3f(0, 1, 0), eta, &t);
+      EXPECT_EQ(refracted, sin_t_expected < 1.0) << angle << " " << eta;
+      if (!refracted) continue;
+      EXPECT_NEAR(t.length(), 1.0f, 1e-6f);
+      EXPECT_NEAR(t.x, sin_t_expected, 1e-5) << angle << " " << eta;  // sin(theta_t)
+      EXPECT_LT(t.y, 0.0f);  // continues through the surface
+    }
+  }
+}
+
+TEST(RayOffset, MovesOffTheSurfaceByAFewUlpsAtAnyScale) {
+  for (float scale : {1e-3f, 1.0f, 1e3f, 1e6f}) {
+    const V3f p(scale, -scale, 0.5f * scale);
+    const V3f n(0.0f, 1.0f, 0.0f);
+    const V3f q = offset_ray_origin(p, n);
+    EXPECT_GT(q.y, p.y) << scale;  // moved to the normal's side
+    EXPECT_EQ(q.x, p.x);           // and nowhere else
+    // By a bounded number of ulps of the coordinate (256 here).
+    EXPECT_LE(std::fabs(q.y - p.y), 300.0f * std::fabs(std::nextafter(p.y, 0.0f) - p.y) + 1e-4f);
+  }
+  // Near the origin the absolute offset of 2^-16 takes over from the vanishing ulps.
+  const V3f q = offset_ray_origin(V3f(0.0f), V3f(0.0f, 0.0f, -1.0f));
+  EXPECT_FLOAT_EQ(q.z, -1.0f / 65536.0f);
+}
+
+TEST(MaterialMapping, PhongExponentFromRoughness) {
+  EXPECT_EQ(phong_exponent_from_roughness(1.0f), 0.0f);
+  EXPECT_NEAR(phong_exponent_from_roughness(0.5f), 2.0f / 0.0625f - 2.0f, 1e-3f);
+  EXPECT_EQ(phong_exponent_from_roughness(0.0f), kMaxPhongExponent);
+}
+
+// The normalised Phong lobe (n + 2) / (2 pi) cos^n(alpha), integrated against the cosine of
+// the incident angle, reflects at most all of the light; at normal incidence exactly all.
+TEST(MaterialMapping, NormalisedPhongLobeNeverCreatesEnergy) {
+  for (float n : {0.0f, 1.0f, 10.0f, 100.0f}) {
+    // At normal incidence R = N, so alpha = theta: integral of (n+2)/(2pi) cos^(n+1) dw = 1.
+    double sum = 0.0;
+    const int steps = 20000;
+    for (int i = 0; i < steps; ++i) {
+      const double theta = (i + 0.5) / steps * (std::numbers::pi / 2);
+      sum += (n + 2.0) / (2.0 * std::numbers::pi) * std::pow(std::cos(theta), n + 1.0) *
+             std::sin(theta) * 2.0 * std::numbers::pi * (std::numbers::pi / 2 / steps);
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-4) << n;
+  }
+}
+
+TEST(MaterialMapping, WhiteSurfaceNeverReflectsMoreThanItReceives) {
+  for (float metallic : {0.0f, 0.3f, 1.0f}) {
+    for (float transmission : {0.0f, 0.5f, 1.0f}) {
+      for (float ior : {1.0f, 1.5f, 2.4f}) {
+        Material m;
+        m.metallic = metallic;
+        m.transmission = transmission;
+        m.ior = ior;
+        const SurfaceResponse r = evaluate(m, Imath::V2f(0.0f));
+        // Diffuse + specular + transmitted at normal incidence (the transmissive part
+        // refracts 1 - F of its share), at most 1 in every channel.
+        const float total = r.diffuse_albedo.x + r.specular_colour.x +
+                            r.transmission * (1.0f - dielectric_f0(ior));
+        EXPECT_LE(total, 1.0f + 1e-6f) << metallic << " " << transmission << " " << ior;
+        EXPECT_GE(r.diffuse_albedo.x, 0.0f);
+      }
+    }
+  }
+  // Plain white dielectric: (1 - 0.04) diffuse + 0.04 specular = 1.
+  Material white;
+  white.metallic = 0.0f;
+  const SurfaceResponse r = evaluate(white, Imath::V2f(0.0f));
+  EXPECT_NEAR(r.diffuse_albedo.x + r.specular_colour.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(r.specular_colour.x, 0.04f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace prism

@@ -1,0 +1,74 @@
+// Small scenes built in code for tests with analytic answers.
+#pragma once
+
+#include <memory>
+
+#include "renderer/colour.h"
+#include "renderer/render.h"
+#include "renderer/render_scene.h"
+#include "renderer/scene_description.h"
+
+namespace prism::testing {
+
+inline MaterialDescription lambert_like(float rho) {
+  MaterialDescription m;
+  m.base_colour = C3f(rho, rho, rho);
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  return m;
+}
+
+// An orthographic camera at `eye` looking down -Z (or along `forward` rotated frames) with
+// half height `ymag`.
+inline CameraDescription ortho_camera_looking_down_z(double z, double ymag) {
+  CameraDescription c;
+  c.name = "ortho";
+  c.projection = Projection::orthographic;
+  c.xmag = c.ymag = ymag;
+  c.camera_to_world = M44d().setTranslation(V3d(0.0, 0.0, z));
+  return c;
+}
+
+// A camera at height `y` looking straight down -Y.
+inline CameraDescription ortho_camera_looking_down_y(double y, double ymag) {
+  CameraDescription c;
+  c.name = "top";
+  c.projection = Projection::orthographic;
+  c.xmag = c.ymag = ymag;
+  // Local -Z to world -Y: rotate +90 degrees about X.
+  c.camera_to_world = M44d(1, 0, 0, 0,  //
+                           0, 0, -1, 0,  //
+                           0, 1, 0, 0,   //
+                           0, y, 0, 1);
+  return c;
+}
+
+inline Mesh quad_mesh(float half, float y, int material) {
+  Mesh mesh;
+  Primitive p;
+  p.positions = {V3f(-half, y, half), V3f(half, y, half), V3f(half, y, -half), V3f(-half, y, -half)};
+  p.normals = {V3f(0, 1, 0), V3f(0, 1, 0), V3f(0, 1, 0), V3f(0, 1, 0)};
+  p.indices = {0, 1, 2, 0, 2, 3};
+  p.material = material;
+  mesh.primitives.push_back(p);
+  return mesh;
+}
+
+// Renders `scene` with `integrator` and returns the image.
+struct Rendered {
+  Image image;
+  RenderResult result;
+};
+
+inline Rendered render_scene(const SceneDescription& scene, const Integrator& integrator,
+                             const RenderSettings& settings, const GeometryOptions& options = {},
+                             int camera = 0) {
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  const RenderScene render_scene(scene, options, colour);
+  const Camera cam(scene.cameras.at(static_cast<size_t>(camera)), settings.width, settings.height);
+  Rendered r;
+  r.result = render(integrator, RenderContext{render_scene, cam, settings}, &r.image);
+  return r;
+}
+
+}  // namespace prism::testing
