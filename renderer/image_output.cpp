@@ -56,9 +56,11 @@ class TempFile {
     if (dir.empty()) dir = ".";
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) fail(target, "directory '" + dir.string() + "' does not exist");
-    const std::string name = "." + target_path.filename().string() + ".tmp-" +
-                             std::to_string(::getpid()) + "-" + std::to_string(counter++) +
-                             target_path.extension().string();
+    // Appended piece by piece: GCC 12 reports a false -Wrestrict for "." + std::string&&.
+    std::string name(".");
+    name += target_path.filename().string();
+    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    name += target_path.extension().string();
     path_ = (dir / name).string();
   }
   ~TempFile() {

@@ -22,9 +22,9 @@ struct SphereRoot {
   // The root is the larger of the two: the ray meets the sphere from inside (its origin is
   // inside, or the near root lies before tnear), so it is leaving the surface here.
   bool exiting = false;
-  // hit point - centre, unnormalised, pointing out of the sphere. Built from the closest
-  // approach rather than o + t d - centre, so it does not subtract two numbers of size
-  // |o - centre| and inherits no error from t.
+  // hit point - centre, unnormalised, pointing out of the sphere: the exact offset for these
+  // float inputs, rounded once (see below). Built from the closest approach rather than
+  // o + t d - centre, so it inherits none of t's rounding.
   Imath::V3f offset;
 };
 
@@ -38,7 +38,13 @@ inline std::optional<SphereRoot> intersect_sphere(const Imath::V3f& o, const Ima
   const float a = d.dot(d);
   if (!(a > 0.0f)) return std::nullopt;  // a zero or NaN direction never hits
   const float b_half = -f.dot(d);        // b' = -b / 2
-  const float c = f.dot(f) - radius * radius;
+  // c is the one input formed in double. For an origin near the surface (every secondary
+  // ray) f.f and r^2 cancel almost entirely, and the small root c / q below inherits c's
+  // relative error: in float 2e-5 for an origin 10^-4 r off the surface, in double none.
+  // o - centre is exact in double unless the two differ in magnitude by over 2^29, and the
+  // squares of its float-sized components are exact too.
+  const Imath::V3d fd(double(o.x) - centre.x, double(o.y) - centre.y, double(o.z) - centre.z);
+  const float c = float(fd.dot(fd) - double(radius) * radius);
 
   // The quarter discriminant b'^2 - a c equals a (r^2 - |l|^2), where l = f + (b'/a) d is the
   // vector from the centre to the ray's closest approach:
@@ -75,10 +81,18 @@ inline std::optional<SphereRoot> intersect_sphere(const Imath::V3f& o, const Ima
   } else {
     return std::nullopt;
   }
-  // hit - centre = f + t d = l + (t - b'/a) d, and t - b'/a is exactly -+ s / a for the
-  // entering / exiting root.
-  const float along = s / a;
-  root.offset = l + (root.exiting ? along : -along) * d;
+  // hit - centre = f + t d = l + (t - b'/a) d, and t - b'/a is exactly -+ sqrt(delta / a) for
+  // the entering / exiting root. In float, l carries the ~|f| eps rounding of its
+  // cancellation, which at 10^5 radii tilts the normal by a degree; in double the same steps
+  // cost a few scalar operations and leave only the final rounding to float. delta is clamped
+  // because a ray float calls a hit may pass a hair outside in exact arithmetic; then the tangent
+  // point is the answer.
+  const Imath::V3d dd(d.x, d.y, d.z);
+  const double ad = dd.dot(dd);
+  const Imath::V3d ld = fd - (fd.dot(dd) / ad) * dd;
+  const double along = std::sqrt(std::fmax(0.0, double(radius) * radius - ld.dot(ld)) / ad);
+  const Imath::V3d offset = ld + (root.exiting ? along : -along) * dd;
+  root.offset = Imath::V3f(float(offset.x), float(offset.y), float(offset.z));
   return root;
 }
 

@@ -169,8 +169,8 @@ AccessorView view_accessor(const tinygltf::Model& model, int index, const std::s
     fail(file, element,
          "byteOffset " + std::to_string(accessor.byteOffset) + " + " + std::to_string(view.count) +
              " elements of " + std::to_string(element_size) + " bytes (stride " +
-             std::to_string(view.stride) + ") exceed the " + std::to_string(length) +
-             " bytes of " + view_element);
+             std::to_string(view.stride) + ") exceed the " + std::to_string(length) + " bytes of " +
+             view_element);
   }
   view.data = buffer.data.data() + buffer_view.byteOffset + accessor.byteOffset;
   return view;

@@ -54,8 +54,7 @@ class Checker {
     }
   }
 
-  const json* find(const json& obj, const char* key, const std::string& path,
-                   bool required) const {
+  const json* find(const json& obj, const char* key, const std::string& path, bool required) const {
     auto it = obj.find(key);
     if (it == obj.end()) {
       if (required) error(member(path, key), "required property is missing");
@@ -96,8 +95,8 @@ class Checker {
                     double minimum = 0) const {
     if (const json* j = find(obj, key, path, required)) {
       if (!integral(*j, minimum, 9007199254740991.0)) {
-        error(member(path, key), "expected an integer >= " + std::to_string(int(minimum)) +
-                                     ", got " + describe(*j));
+        error(member(path, key),
+              "expected an integer >= " + std::to_string(int(minimum)) + ", got " + describe(*j));
       }
     }
   }
@@ -320,8 +319,8 @@ void check_image_buffer_views(const Checker& c, const json& root) {
     const auto length = view["byteLength"].get<double>();
     const auto buffer_length = buffers[b]["byteLength"].get<double>();
     if (offset + length > buffer_length) {
-      c.error(vp, "byteOffset + byteLength exceeds the byteLength of buffers[" +
-                      std::to_string(b) + "]");
+      c.error(vp, "byteOffset + byteLength exceeds the byteLength of buffers[" + std::to_string(b) +
+                      "]");
     }
   }
 }
@@ -371,17 +370,14 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
   c.index(root, "scene", "");
 
   auto nothing = [](const json&, const std::string&) {};
-  c.object_array(root, "scenes", "", [&](const json& s, const std::string& p) {
-    c.index_array(s, "nodes", p);
-  });
-  c.object_array(root, "nodes", "", [&](const json& n, const std::string& p) {
-    check_node(c, n, p);
-  });
+  c.object_array(root, "scenes", "",
+                 [&](const json& s, const std::string& p) { c.index_array(s, "nodes", p); });
+  c.object_array(root, "nodes", "",
+                 [&](const json& n, const std::string& p) { check_node(c, n, p); });
   c.object_array(root, "meshes", "", [&](const json& m, const std::string& p) {
     c.object_array(
         m, "primitives", p,
-        [&](const json& prim, const std::string& pp) { check_primitive(c, prim, pp); }, true,
-        true);
+        [&](const json& prim, const std::string& pp) { check_primitive(c, prim, pp); }, true, true);
     c.number_array(m, "weights", p, 0);
   });
   c.object_array(root, "accessors", "", [&](const json& a, const std::string& p) {
@@ -406,9 +402,8 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
     c.string(b, "uri", p);
     c.unsigned_int(b, "byteLength", p, true, 1);
   });
-  c.object_array(root, "materials", "", [&](const json& m, const std::string& p) {
-    check_material(c, m, p);
-  });
+  c.object_array(root, "materials", "",
+                 [&](const json& m, const std::string& p) { check_material(c, m, p); });
   c.object_array(root, "textures", "", [&](const json& t, const std::string& p) {
     c.index(t, "sampler", p);
     c.index(t, "source", p);
@@ -424,9 +419,8 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
       c.unsigned_int(s, key, p, false);
     }
   });
-  c.object_array(root, "cameras", "", [&](const json& cam, const std::string& p) {
-    check_camera(c, cam, p);
-  });
+  c.object_array(root, "cameras", "",
+                 [&](const json& cam, const std::string& p) { check_camera(c, cam, p); });
   c.object_array(root, "skins", "", nothing);
   c.object_array(root, "animations", "", nothing);
 

@@ -12,8 +12,8 @@
 #include <optional>
 #include <tuple>
 
-#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
+#include <nlohmann/json.hpp>
 
 #include "scene_io/gltf_accessors.h"
 #include "scene_io/gltf_error.h"
@@ -128,8 +128,7 @@ bool finite(const M44d& m) {
   return true;
 }
 
-const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions,
-                                      const char* name) {
+const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions, const char* name) {
   auto it = extensions.find(name);
   if (it == extensions.end() || !it->second.IsObject()) return nullptr;
   return &it->second;
@@ -305,9 +304,9 @@ class Converter {
                          " bytes, expected " + std::to_string(values * bytes_per_value));
     }
     TextureImage out;
-    out.name = !image.name.empty() ? image.name : !image.uri.empty() && image.uri.size() < 256
-                                                      ? image.uri
-                                                      : element;
+    out.name = !image.name.empty()                            ? image.name
+               : !image.uri.empty() && image.uri.size() < 256 ? image.uri
+                                                              : element;
     out.width = image.width;
     out.height = image.height;
     out.channels = image.component;
@@ -537,10 +536,9 @@ class Converter {
     double x = 0.0, y = 0.0, z = 0.0, w = 1.0;
     if (!node.rotation.empty()) {
       if (node.rotation.size() != 4) error(element + ".rotation", "expected 4 numbers");
-      const double length = std::sqrt(node.rotation[0] * node.rotation[0] +
-                                      node.rotation[1] * node.rotation[1] +
-                                      node.rotation[2] * node.rotation[2] +
-                                      node.rotation[3] * node.rotation[3]);
+      const double length =
+          std::sqrt(node.rotation[0] * node.rotation[0] + node.rotation[1] * node.rotation[1] +
+                    node.rotation[2] * node.rotation[2] + node.rotation[3] * node.rotation[3]);
       if (!std::isfinite(length) || length < 1e-12) {
         error(element + ".rotation", "not a unit quaternion");
       }
@@ -586,8 +584,9 @@ class Converter {
             error(element, "the node hierarchy has a cycle (the node is its own ancestor)");
           }
         }
-        error(element, "node is reached twice (listed as a scene root more than once, or both "
-                       "a root and a child)");
+        error(element,
+              "node is reached twice (listed as a scene root more than once, or both "
+              "a root and a child)");
       }
       visited[index] = true;
       parent_of[index] = item.parent;
@@ -644,8 +643,7 @@ class Converter {
     }
     for (int i = 0; i < 3; ++i) {
       for (int j = i + 1; j < 3; ++j) {
-        const bool same_length =
-            std::abs(axes[i].length() - axes[j].length()) <= 1e-6 * largest;
+        const bool same_length = std::abs(axes[i].length() - axes[j].length()) <= 1e-6 * largest;
         const bool orthogonal = std::abs(axes[i].dot(axes[j])) <= 1e-6 * largest * largest;
         if (!same_length || !orthogonal) {
           error(element, "PRISM_sphere needs a uniform world scale, but the node's axes scale by " +

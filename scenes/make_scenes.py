@@ -214,7 +214,7 @@ def spheres_scene():
     mirror = b.material("mirror", (0.95, 0.95, 0.95), 1.0, 0.0)
     glass = b.material("glass", (1.0, 1.0, 1.0), 0.0, 0.0, transmission=1.0, ior=1.5)
     red = b.material("red plastic", (0.8, 0.08, 0.06), 0.0, 0.35)
-    gold = b.material("gold", (1.0, 0.77, 0.34), 1.0, 0.3)
+    gold = b.material("gold", (1.0, 0.77, 0.34), 1.0, 0.08)
     b.quad("floor", [-6, 0, 5], [12, 0, 0], [0, 0, -11], floor, uv_scale=3.0)
     b.quad("back wall", [-6, 0, -6], [12, 0, 0], [0, 6, 0], wall)
     b.sphere("mirror sphere", (-1.25, 1.0, -0.6), 1.0, mirror)

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -66,10 +67,9 @@ bool has_warning(const SceneDescription& scene, const std::string& text) {
 // The shipped samples.
 
 TEST(GltfLoaderSamples, BoxTexturedIsTheSameInAllThreeForms) {
-  const std::vector<std::string> paths = {
-      kSamples + "/BoxTextured-glTF/BoxTextured.gltf",
-      kSamples + "/BoxTextured-glTF-Binary/BoxTextured.glb",
-      kSamples + "/BoxTextured-glTF-Embedded/BoxTextured.gltf"};
+  const std::vector<std::string> paths = {kSamples + "/BoxTextured-glTF/BoxTextured.gltf",
+                                          kSamples + "/BoxTextured-glTF-Binary/BoxTextured.glb",
+                                          kSamples + "/BoxTextured-glTF-Embedded/BoxTextured.gltf"};
   std::vector<SceneDescription> scenes;
   for (const std::string& path : paths) {
     SCOPED_TRACE(path);
@@ -118,7 +118,8 @@ TEST(GltfLoaderSamples, BoxTexturedIsTheSameInAllThreeForms) {
     scenes.push_back(std::move(s));
   }
   for (std::size_t i = 1; i < scenes.size(); ++i) {
-    EXPECT_EQ(scenes[i].meshes[0].primitives[0].positions, scenes[0].meshes[0].primitives[0].positions);
+    EXPECT_EQ(scenes[i].meshes[0].primitives[0].positions,
+              scenes[0].meshes[0].primitives[0].positions);
     EXPECT_EQ(scenes[i].meshes[0].primitives[0].indices, scenes[0].meshes[0].primitives[0].indices);
     EXPECT_EQ(scenes[i].meshes[0].primitives[0].uv0, scenes[0].meshes[0].primitives[0].uv0);
     EXPECT_EQ(scenes[i].textures[0].texels, scenes[0].textures[0].texels);
@@ -126,7 +127,8 @@ TEST(GltfLoaderSamples, BoxTexturedIsTheSameInAllThreeForms) {
 }
 
 TEST(GltfLoaderSamples, TwoCylinderEngine) {
-  const SceneDescription s = load_gltf(kSamples + "/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
+  const SceneDescription s =
+      load_gltf(kSamples + "/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
   EXPECT_EQ(s.meshes.size(), 29u);
   EXPECT_EQ(s.instances.size(), 67u);
   EXPECT_EQ(s.materials.size(), 34u);
@@ -167,10 +169,10 @@ TEST(GltfLoaderSamples, PrimitiveModes) {
     int number;
     const char* skipped_mode;  // nullptr: two triangles expected
   };
-  const Case cases[] = {{0, "POINTS"},     {1, "LINES"},      {2, "LINE_LOOP"}, {3, "LINE_STRIP"},
-                        {4, nullptr},      {5, nullptr},      {6, nullptr},     {7, "POINTS"},
-                        {8, "LINES"},      {9, "LINE_LOOP"},  {10, "LINE_STRIP"}, {11, nullptr},
-                        {12, nullptr},     {13, nullptr},     {14, nullptr},    {15, nullptr}};
+  const Case cases[] = {{0, "POINTS"}, {1, "LINES"},     {2, "LINE_LOOP"},   {3, "LINE_STRIP"},
+                        {4, nullptr},  {5, nullptr},     {6, nullptr},       {7, "POINTS"},
+                        {8, "LINES"},  {9, "LINE_LOOP"}, {10, "LINE_STRIP"}, {11, nullptr},
+                        {12, nullptr}, {13, nullptr},    {14, nullptr},      {15, nullptr}};
   for (const Case& c : cases) {
     char name[64];
     std::snprintf(name, sizeof name, "Mesh_PrimitiveMode_%02d.gltf", c.number);
@@ -289,8 +291,8 @@ class Builder {
 
   int accessor(int view, int component_type, std::size_t count, const char* type,
                bool normalized = false) {
-    json a = {{"bufferView", view}, {"componentType", component_type}, {"count", count},
-              {"type", type}};
+    json a = {
+        {"bufferView", view}, {"componentType", component_type}, {"count", count}, {"type", type}};
     if (normalized) a["normalized"] = true;
     doc["accessors"].push_back(a);
     return static_cast<int>(doc["accessors"].size() - 1);
@@ -317,9 +319,9 @@ class Builder {
 
   std::string write(const std::string& name) {
     if (!bin_.empty()) {
-      doc["buffers"] = json::array({{{"byteLength", bin_.size()},
-                                     {"uri", "data:application/octet-stream;base64," +
-                                                 base64(bin_)}}});
+      doc["buffers"] =
+          json::array({{{"byteLength", bin_.size()},
+                        {"uri", "data:application/octet-stream;base64," + base64(bin_)}}});
     }
     const auto dir = std::filesystem::temp_directory_path() / "prism_gltf_loader_test";
     std::filesystem::create_directories(dir);
@@ -418,7 +420,8 @@ TEST(GltfLoaderHandMade, NestedTrsAndMatrixTransforms) {
 TEST(GltfLoaderHandMade, Spheres) {
   Builder b;
   b.doc["materials"] = json::array({{{"name", "a"}}, {{"name", "b"}}});
-  const int fallback = b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}}, {"material", 1}});
+  const int fallback =
+      b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}}, {"material", 1}});
   const int sphere = b.node({{"name", "ball"},
                              {"translation", {0, 1, 0}},
                              {"mesh", fallback},
@@ -477,12 +480,9 @@ TEST(GltfLoaderHandMade, PunctualLights) {
        {{"type", "point"}}});
   const double h = std::sqrt(0.5);
   // Rotating -90 degrees about X turns the light's -Z into -Y: straight down.
-  b.node({{"rotation", {-h, 0, 0, h}},
-          {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
-  b.node({{"translation", {1, 2, 3}},
-          {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
-  b.node({{"translation", {0, 5, 0}},
-          {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+  b.node({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  b.node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  b.node({{"translation", {0, 5, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
   const SceneDescription s = load_gltf(b.write("lights.gltf"));
   ASSERT_EQ(s.lights.size(), 3u);
   const Light& sun = s.lights[0];
@@ -512,21 +512,22 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   b.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior",
                              "KHR_materials_emissive_strength", "KHR_materials_sheen"};
   b.doc["extensionsRequired"] = {"KHR_materials_transmission"};
-  b.doc["materials"] = json::array(
-      {{{"name", "glass"},
-        {"doubleSided", true},
-        {"pbrMetallicRoughness",
-         {{"baseColorFactor", {0.9, 0.8, 0.7, 0.5}}, {"metallicFactor", 0.25},
-          {"roughnessFactor", 0.125}}},
-        {"emissiveFactor", {0.5, 0.25, 1}},
-        {"extensions",
-         {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
-          {"KHR_materials_ior", {{"ior", 1.33}}},
-          {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
-       json::object()});
+  b.doc["materials"] =
+      json::array({{{"name", "glass"},
+                    {"doubleSided", true},
+                    {"pbrMetallicRoughness",
+                     {{"baseColorFactor", {0.9, 0.8, 0.7, 0.5}},
+                      {"metallicFactor", 0.25},
+                      {"roughnessFactor", 0.125}}},
+                    {"emissiveFactor", {0.5, 0.25, 1}},
+                    {"extensions",
+                     {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
+                      {"KHR_materials_ior", {{"ior", 1.33}}},
+                      {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+                   json::object()});
   b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}},
-                           {"indices", b.accessor(b.view(std::vector<uint16_t>{0, 1, 2}), 5123,
-                                                  3, "SCALAR")},
+                           {"indices",
+                            b.accessor(b.view(std::vector<uint16_t>{0, 1, 2}), 5123, 3, "SCALAR")},
                            {"material", 0}})}});
   const SceneDescription s = load_gltf(b.write("materials.gltf"));
   ASSERT_EQ(s.materials.size(), 2u);
@@ -557,7 +558,8 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
 TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
   // A 2x1 RGB PNG would need an encoder; instead reuse the sample's PNG through a relative uri.
   Builder b;
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "prism_gltf_loader_test";
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "prism_gltf_loader_test";
   std::filesystem::create_directories(dir);
   std::filesystem::copy_file(kSamples + "/BoxTextured-glTF/CesiumLogoFlat.png",
                              dir / "logo with space.png",
@@ -609,30 +611,39 @@ TEST(GltfLoaderHandMade, ValidationErrorsNameTheElement) {
       {"normals_count.gltf",
        [](Builder& b) {
          const int n = b.positions({0, 0, 1, 0, 0, 1, 0, 0, 1});
-         b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}, {"NORMAL", n}}}})}});
+         b.node({{"mesh",
+                  b.mesh({{"attributes", {{"POSITION", b.quad_positions()}, {"NORMAL", n}}}})}});
        },
        "meshes[0].primitives[0].attributes.NORMAL: NORMAL has 3 elements but POSITION has 4"},
       {"uv_type.gltf",
        [](Builder& b) {
          const int uv = b.accessor(b.view(std::vector<uint8_t>{0, 0, 1, 1, 2, 2, 3, 3}), 5121, 4,
                                    "VEC2");  // not normalized
-         b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}, {"TEXCOORD_0", uv}}}})}});
+         b.node({{"mesh", b.mesh({{"attributes",
+                                   {{"POSITION", b.quad_positions()}, {"TEXCOORD_0", uv}}}})}});
        },
        "accessors[0]: TEXCOORD_0 must be"},
       {"int_positions.gltf",
        [](Builder& b) {
-         const int pos = b.accessor(b.view(std::vector<uint16_t>{0, 0, 0, 1, 1, 1, 2, 2, 2}), 5123,
-                                    3, "VEC3");
+         const int pos =
+             b.accessor(b.view(std::vector<uint16_t>{0, 0, 0, 1, 1, 1, 2, 2, 2}), 5123, 3, "VEC3");
          b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", pos}}}})}});
        },
        "accessors[0]: POSITION must have componentType FLOAT"},
       {"bad_accessor_index.gltf",
-       [](Builder& b) { b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", 7}}}})}}); },
+       [](Builder& b) {
+         b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", 7}}}})}});
+       },
        "meshes[0].primitives[0].attributes.POSITION: accessor 7 out of range"},
-      {"bad_mesh_index.gltf", [](Builder& b) { b.node({{"mesh", 3}}); },
+      {"bad_mesh_index.gltf",
+       [](Builder& b) {
+         b.node({{"mesh", 3}});
+       },
        "nodes[0].mesh: mesh 3 out of range"},
       {"no_position.gltf",
-       [](Builder& b) { b.node({{"mesh", b.mesh({{"attributes", json::object()}})}}); },
+       [](Builder& b) {
+         b.node({{"mesh", b.mesh({{"attributes", json::object()}})}});
+       },
        "meshes[0].primitives[0].attributes: POSITION is missing"},
       {"cycle.gltf",
        [](Builder& b) {
@@ -651,7 +662,10 @@ TEST(GltfLoaderHandMade, ValidationErrorsNameTheElement) {
        "extensionsRequired: extension EXT_meshopt_compression"},
       {"malformed.gltf", [](Builder& b) { b.doc["asset"] = "x"; }, "asset: expected an object"},
       {"nan_in_matrix.gltf",
-       [](Builder& b) { b.node({{"scale", {1e300, 1, 1}}, {"children", {1}}}); b.node({{"scale", {1e300, 1, 1}}}, false); },
+       [](Builder& b) {
+         b.node({{"scale", {1e300, 1, 1}}, {"children", {1}}});
+         b.node({{"scale", {1e300, 1, 1}}}, false);
+       },
        "nodes[1]: world transform is not finite"},
       {"metallic_range.gltf",
        [](Builder& b) {
@@ -700,8 +714,9 @@ TEST(GltfLoaderHandMade, NoScenesRendersAllRootNodesWithAWarning) {
 
 TEST(GltfLoaderHandMade, SharedCameraGivesOneDescriptionPerNodeInTraversalOrder) {
   Builder b;
-  b.doc["cameras"] = json::array(
-      {{{"name", "cam"}, {"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}});
+  b.doc["cameras"] = json::array({{{"name", "cam"},
+                                   {"type", "perspective"},
+                                   {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}});
   const int inner = b.node({{"camera", 0}, {"translation", {0, 0, 7}}}, false);
   b.node({{"children", {inner}}});
   b.node({{"camera", 0}, {"translation", {0, 0, 9}}});
