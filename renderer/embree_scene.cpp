@@ -281,9 +281,10 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
         r.kind == GeometryRecord::Kind::point_spheres) {
       const Sphere& s = spheres_[rh.hit.primID];
       const V3f centre(s.centre);
-      // Projected back onto the sphere: the hit point's error stays relative to the radius
-      // instead of growing with t.
-      const V3f radial = normalize(ray.origin + hit->t * ray.direction - centre);
+      // The intersector's Ng is hit point - centre, computed more precisely than
+      // o + t d - centre could be here; the hit point is projected back onto the sphere
+      // along it, so its error stays relative to the radius instead of growing with t.
+      const V3f radial = normalize(V3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
       hit->position = centre + static_cast<float>(s.radius) * radial;
       hit->geometric_normal = radial;
       hit->shading_normal = radial;
