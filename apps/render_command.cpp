@@ -55,7 +55,8 @@ void check_output_path(const std::string& path, const char* extension, const cha
   if (!parent.empty() && !fs::is_directory(parent))
     throw UsageError(std::string(option) + " " + path + ": directory " + parent.string() +
                      " does not exist");
-  if (fs::is_directory(path)) throw UsageError(std::string(option) + " " + path + ": is a directory");
+  if (fs::is_directory(path))
+    throw UsageError(std::string(option) + " " + path + ": is a directory");
 }
 
 int select_camera(const SceneDescription& scene, const std::string& wanted) {
@@ -69,8 +70,8 @@ int select_camera(const SceneDescription& scene, const std::string& wanted) {
   std::string names;
   for (size_t i = 0; i < scene.cameras.size(); ++i)
     names += (i ? ", " : "") + std::to_string(i) + " '" + scene.cameras[i].name + "'";
-  throw UsageError("--camera " + wanted + ": " + scene.source_path + " has no such camera (it has " +
-                   names + ")");
+  throw UsageError("--camera " + wanted + ": " + scene.source_path +
+                   " has no such camera (it has " + names + ")");
 }
 
 std::string with_commas(uint64_t n) {
@@ -119,7 +120,8 @@ int run(const RenderOptions& o) {
   const CameraDescription& camera_description = scene.cameras[static_cast<size_t>(camera_index)];
   if (!explicit_resolution && camera_description.aspect_ratio > 0.0) {
     settings.height = 480;
-    settings.width = std::max(1, static_cast<int>(std::lround(480.0 * camera_description.aspect_ratio)));
+    settings.width =
+        std::max(1, static_cast<int>(std::lround(480.0 * camera_description.aspect_ratio)));
   }
   settings.spp = o.spp;
   settings.max_depth = o.max_depth;
@@ -138,9 +140,9 @@ int run(const RenderOptions& o) {
                  "prism: %s: %zu triangles (%zu meshes baked, %zu instances), %zu spheres (%s), "
                  "%zu lights, camera '%s', %dx%d, %d spp, loaded and built in %.3f s\n",
                  o.scene_path.c_str(), stats.triangles, stats.meshes_baked, stats.mesh_instances,
-                 stats.spheres, to_string(geometry_options.spheres).c_str(), render_scene.lights().size(),
-                 camera_description.name.c_str(), settings.width, settings.height, settings.spp,
-                 load_seconds);
+                 stats.spheres, to_string(geometry_options.spheres).c_str(),
+                 render_scene.lights().size(), camera_description.name.c_str(), settings.width,
+                 settings.height, settings.spp, load_seconds);
   }
 
   ProgressBar progress(!o.quiet);
@@ -164,7 +166,8 @@ int run(const RenderOptions& o) {
                     {"raysShadow", std::to_string(result.rays.shadow)},
                     {"raysReflection", std::to_string(result.rays.reflection)},
                     {"raysRefraction", std::to_string(result.rays.refraction)}};
-  write_exr(o.output_path, image, colour, metadata, o.half ? ExrPixelType::half : ExrPixelType::float32);
+  write_exr(o.output_path, image, colour, metadata,
+            o.half ? ExrPixelType::half : ExrPixelType::float32);
   if (!o.preview_path.empty()) write_png_preview(o.preview_path, image, colour);
 
   if (!o.quiet) {
@@ -193,18 +196,19 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene to an EXR image");
   cmd->add_option("scene", o->scene_path, "Scene file (.gltf or .glb)")->required();
   cmd->add_option("-o,--output", o->output_path, "Output image (.exr), scene-linear")->required();
-  cmd->add_option("--integrator", o->integrator, "phong | shadow | whitted")
-      ->capture_default_str();
+  cmd->add_option("--integrator", o->integrator, "phong | shadow | whitted")->capture_default_str();
   cmd->add_option("--spp", o->spp, "Samples per pixel (1 = through pixel centres)")
       ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str();
-  cmd->add_option("--res", o->resolution,
-                  "Image size WIDTHxHEIGHT (default 640x480, or 480 high at the camera's aspect ratio)");
+  cmd->add_option(
+      "--res", o->resolution,
+      "Image size WIDTHxHEIGHT (default 640x480, or 480 high at the camera's aspect ratio)");
   cmd->add_option("--camera", o->camera, "Camera name or index (default: the first)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
-  cmd->add_option("--max-depth", o->max_depth, "Longest chain of reflection/refraction rays (whitted)")
+  cmd->add_option("--max-depth", o->max_depth,
+                  "Longest chain of reflection/refraction rays (whitted)")
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
   cmd->add_option("--spheres", o->spheres, "analytic | mesh[:LEVEL] | embree-points")

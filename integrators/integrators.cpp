@@ -15,7 +15,8 @@ const char* to_string(IntegratorKind kind) {
 }
 
 bool parse_integrator(const std::string& text, IntegratorKind* out) {
-  for (IntegratorKind k : {IntegratorKind::phong, IntegratorKind::shadow, IntegratorKind::whitted}) {
+  for (IntegratorKind k :
+       {IntegratorKind::phong, IntegratorKind::shadow, IntegratorKind::whitted}) {
     if (text == to_string(k)) {
       *out = k;
       return true;

@@ -1,26 +1,15 @@
 // phong: the lecture's local shading equation (ambient + Lambert + normalised Phong) at the
-// nearest hit of each view ray. No shadows, no secondary rays.
+// nearest hit of each view ray, plus emission. No shadows, no secondary rays.
 //
-// Parameters: --ambient (I_a), --background.
+// Parameters: --ambient (I_a), --background. The shading itself is integrators/direct.h and
+// integrators/local_shading.h.
 #include "integrators/direct.h"
 #include "integrators/integrators.h"
 
 namespace prism {
-namespace {
 
-class PhongIntegrator final : public Integrator {
- public:
-  const char* name() const override { return "phong"; }
-  void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
-                   RayCounters* counters) const override {
-    render_tile_with(context, tile, image, counters, [&](const Ray& ray, RayCounters* c) {
-      return direct_radiance<false>(context, ray, c);
-    });
-  }
-};
-
-}  // namespace
-
-std::unique_ptr<Integrator> make_phong_integrator() { return std::make_unique<PhongIntegrator>(); }
+std::unique_ptr<Integrator> make_phong_integrator() {
+  return std::make_unique<DirectLightIntegrator</*Shadows=*/false>>();
+}
 
 }  // namespace prism

@@ -30,8 +30,8 @@ void render_tile_with(const RenderContext& context, const TileRect& tile, Image*
         // spread uniformly over the pixel (a box filter).
         const float jx = spp == 1 ? 0.5f : sample_uniform(pixel_index, s, 0);
         const float jy = spp == 1 ? 0.5f : sample_uniform(pixel_index, s, 1);
-        const Ray ray = context.camera.generate_ray(static_cast<float>(x) + jx,
-                                                    static_cast<float>(y) + jy);
+        const Ray ray =
+            context.camera.generate_ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
         ++counters->camera;
         const SampleResult r = radiance(ray, counters);
         sum += r.radiance;
@@ -44,6 +44,19 @@ void render_tile_with(const RenderContext& context, const TileRect& tile, Image*
       out[3] = static_cast<float>(hits) * inv_spp;
     }
   }
+}
+
+// The common case: the camera ray's nearest hit is shaded by `shade(ray, hit, counters)`,
+// and a ray that hits nothing sees the background.
+template <typename ShadeFn>
+void render_tile_shading_hits(const RenderContext& context, const TileRect& tile, Image* image,
+                              RayCounters* counters, ShadeFn&& shade) {
+  render_tile_with(context, tile, image, counters, [&](const Ray& ray, RayCounters* c) {
+    SurfaceHit hit;
+    if (!context.scene.geometry().intersect(ray, &hit))
+      return SampleResult{context.settings.background, false};
+    return SampleResult{shade(ray, hit, c), true};
+  });
 }
 
 }  // namespace prism

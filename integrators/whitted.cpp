@@ -29,12 +29,10 @@ class WhittedIntegrator final : public Integrator {
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {
-    render_tile_with(context, tile, image, counters, [&](const Ray& ray, RayCounters* c) {
-      SurfaceHit hit;
-      if (!context.scene.geometry().intersect(ray, &hit))
-        return SampleResult{context.settings.background, false};
-      return SampleResult{shade(context, ray, hit, 0, c), true};
-    });
+    render_tile_shading_hits(context, tile, image, counters,
+                             [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
+                               return shade(context, ray, hit, 0, c);
+                             });
   }
 
  private:
@@ -58,7 +56,8 @@ class WhittedIntegrator final : public Integrator {
     V3f reflect_weight(0.0f);
     if (surface.mirror && surface.transmission < 1.0f) {
       const V3f f0 = surface.specular_colour;
-      reflect_weight += (f0 + (V3f(1.0f) - f0) * schlick_weight(cos_i)) * (1.0f - surface.transmission);
+      reflect_weight +=
+          (f0 + (V3f(1.0f) - f0) * schlick_weight(cos_i)) * (1.0f - surface.transmission);
     }
     if (surface.transmission > 0.0f) {
       // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.

@@ -24,6 +24,19 @@ struct EmbreeScene::TriangleMesh {
   size_t vertex_count() const { return positions.empty() ? 0 : positions.size() - 1; }
 };
 
+// The primitive as is, in its own space, padded for Embree's read-ahead.
+std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Primitive& p) {
+  auto mesh = std::make_unique<EmbreeScene::TriangleMesh>();
+  mesh->positions.reserve(p.positions.size() + 1);
+  mesh->positions = p.positions;
+  mesh->positions.push_back(V3f(0.0f));
+  mesh->normals = p.normals;
+  mesh->uv = p.uv0;
+  mesh->indices = p.indices;
+  mesh->material = p.material;
+  return mesh;
+}
+
 // A mesh placed by several nodes: its own BVH, in object space, shared by its instances.
 struct EmbreeScene::Prototype {
   RTCScene scene = nullptr;
@@ -131,13 +144,7 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
       rtcSetSceneFlags(proto->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
       for (const Primitive& p : mesh.primitives) {
         if (p.indices.empty()) continue;
-        auto geometry = std::make_unique<TriangleMesh>();
-        geometry->positions = p.positions;
-        geometry->positions.push_back(V3f(0.0f));
-        geometry->normals = p.normals;
-        geometry->uv = p.uv0;
-        geometry->indices = p.indices;
-        geometry->material = p.material;
+        auto geometry = copy_for_embree(p);
         const unsigned id = attach_triangles(proto->scene, *geometry);
         if (proto->geometries.size() <= id) proto->geometries.resize(id + 1);
         proto->geometries[id] = std::move(geometry);
@@ -179,12 +186,7 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
       case SphereMode::mesh:
         for (size_t i = 0; i < spheres_.size(); ++i) {
           const Primitive p = tessellate_sphere(spheres_[i], options.spheres.mesh_level);
-          auto mesh = std::make_unique<TriangleMesh>();
-          mesh->positions = p.positions;
-          mesh->positions.push_back(V3f(0.0f));
-          mesh->normals = p.normals;
-          mesh->indices = p.indices;
-          mesh->material = p.material;
+          auto mesh = copy_for_embree(p);
           statistics_.triangles += p.indices.size() / 3;
           record(attach_triangles(scene_, *mesh),
                  {GeometryRecord::Kind::sphere_mesh, mesh.get(), i});

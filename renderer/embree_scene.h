@@ -7,9 +7,9 @@
 #include <memory>
 #include <vector>
 
-#include <embree3/rtcore.h>
 #include <Imath/ImathBox.h>
 #include <Imath/ImathVec.h>
+#include <embree3/rtcore.h>
 
 #include "renderer/ray.h"
 #include "renderer/scene_description.h"
@@ -29,8 +29,8 @@ struct SurfaceHit {
   Imath::V3f geometric_normal;  // unit, world space, out of the front (authored) side
   Imath::V3f shading_normal;    // unit, on the same side as geometric_normal
   Imath::V2f uv{0.0f, 0.0f};
-  int material = -1;            // index into the scene's materials, -1 = default
-  bool back_face = false;       // the ray arrived from behind (e.g. from inside a sphere)
+  int material = -1;       // index into the scene's materials, -1 = default
+  bool back_face = false;  // the ray arrived from behind (e.g. from inside a sphere)
 };
 
 struct GeometryStatistics {
@@ -61,6 +61,7 @@ class EmbreeScene {
   struct Instance;
   struct GeometryRecord;
 
+  static std::unique_ptr<TriangleMesh> copy_for_embree(const Primitive& p);
   unsigned attach_triangles(RTCScene scene, const TriangleMesh& mesh);
   void fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& rh, SurfaceHit* hit) const;
 

@@ -37,11 +37,11 @@ struct Material {
 
 // The shading model's parameters at one surface point.
 struct SurfaceResponse {
-  Rgb diffuse_albedo;     // rho_d; the BRDF is rho_d / pi
-  Rgb specular_colour;    // k_s: reflectance at normal incidence (F0)
-  float phong_exponent;   // n of the normalised lobe (n + 2) / (2 pi) (R.V)^n
-  bool mirror;            // reflects a recursive mirror ray (whitted)
-  float transmission;     // fraction refracted rather than diffusely reflected
+  Rgb diffuse_albedo;    // rho_d; the BRDF is rho_d / pi
+  Rgb specular_colour;   // k_s: reflectance at normal incidence (F0)
+  float phong_exponent;  // n of the normalised lobe (n + 2) / (2 pi) (R.V)^n
+  bool mirror;           // reflects a recursive mirror ray (whitted)
+  float transmission;    // fraction refracted rather than diffusely reflected
   float ior;
   Rgb transmission_tint;  // colour of light passing through (the base colour)
   Rgb emission;           // emitted radiance

@@ -14,13 +14,23 @@ using Imath::V3f;
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvPi = 0.31830988618379067154f;
 
-inline float dot(const V3f& a, const V3f& b) { return a.dot(b); }
-inline V3f cross(const V3f& a, const V3f& b) { return a.cross(b); }
-inline V3f normalize(const V3f& v) { return v.normalized(); }
-inline V3f hadamard(const V3f& a, const V3f& b) { return V3f(a.x * b.x, a.y * b.y, a.z * b.z); }
+inline float dot(const V3f& a, const V3f& b) {
+  return a.dot(b);
+}
+inline V3f cross(const V3f& a, const V3f& b) {
+  return a.cross(b);
+}
+inline V3f normalize(const V3f& v) {
+  return v.normalized();
+}
+inline V3f hadamard(const V3f& a, const V3f& b) {
+  return V3f(a.x * b.x, a.y * b.y, a.z * b.z);
+}
 
 // Mirror reflection of the incident direction d (pointing at the surface) about n.
-inline V3f reflect(const V3f& d, const V3f& n) { return d - 2.0f * dot(d, n) * n; }
+inline V3f reflect(const V3f& d, const V3f& n) {
+  return d - 2.0f * dot(d, n) * n;
+}
 
 // n flipped, if need be, onto the same side as `reference`.
 inline V3f face_forward(const V3f& n, const V3f& reference) {

@@ -23,7 +23,7 @@ class RenderScene {
   // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
   const Material& material(int index) const {
     return index >= 0 && index < static_cast<int>(materials_.size()) ? materials_[index]
-                                                                      : default_material_;
+                                                                     : default_material_;
   }
   bool has_textures() const { return !textures_.empty(); }
 

@@ -33,7 +33,7 @@ struct TextureImage {
   std::string name;
   int width = 0;
   int height = 0;
-  int channels = 0;          // 1..4
+  int channels = 0;           // 1..4
   std::vector<float> texels;  // width * height * channels, row 0 at the top (glTF's UV origin)
   TextureEncoding encoding = TextureEncoding::srgb;
   TextureWrap wrap_s = TextureWrap::repeat;
@@ -61,8 +61,8 @@ struct MaterialDescription {
 // winding is counter-clockwise for the front face in object space.
 struct Primitive {
   std::vector<V3f> positions;
-  std::vector<V3f> normals;  // per vertex, or empty: the geometric (flat) normal is used
-  std::vector<V2f> uv0;      // per vertex, or empty
+  std::vector<V3f> normals;       // per vertex, or empty: the geometric (flat) normal is used
+  std::vector<V2f> uv0;           // per vertex, or empty
   std::vector<uint32_t> indices;  // 3 per triangle, every index < positions.size()
   int material = -1;              // -1 = the default material
 };
@@ -109,9 +109,9 @@ enum class Projection { perspective, orthographic };
 struct CameraDescription {
   std::string name;
   Projection projection = Projection::perspective;
-  M44d camera_to_world;  // the camera looks down its local -Z with +Y up
-  double yfov = 0.8;            // radians, perspective
-  double aspect_ratio = 0.0;    // 0 = take it from the image resolution
+  M44d camera_to_world;           // the camera looks down its local -Z with +Y up
+  double yfov = 0.8;              // radians, perspective
+  double aspect_ratio = 0.0;      // 0 = take it from the image resolution
   double xmag = 1.0, ymag = 1.0;  // half extents, orthographic
   double znear = 1e-3;
 };

@@ -126,12 +126,14 @@ struct CandidateHit {
 // Embree 3 leaves it to user geometry to write the hit and to run the filter functions (the
 // geometry's and the context's), which see the candidate distance in tfar and reject it by
 // zeroing their valid flag. Only lane i is offered, so the other lanes' flags stay 0.
-void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
+// `run_filter(filter_args)` calls the intersection or occlusion filters; `accept(i, root)`
+// records a root they kept, with tfar already set to it.
+template <typename Args, typename RunFilter, typename Accept>
+void for_each_filtered_root(const Args* args, RTCRayN* rays, RunFilter&& run_filter,
+                            Accept&& accept) {
   const auto* data = static_cast<const AnalyticSpheres*>(args->geometryUserPtr);
   const FloatSphere& s = data->spheres[args->primID];
   const unsigned n = args->N;
-  RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
-  RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
   for (unsigned i = 0; i < n; ++i) {
     if (args->valid[i] == 0) continue;
     float& tfar = RTCRayN_tfar(rays, n, i);
@@ -146,38 +148,32 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
                                              rays,  candidate.get(),       n};
     const float old_tfar = tfar;
     tfar = root->t;
-    rtcFilterIntersection(args, &filter);
+    run_filter(&filter);
     if (valid[i] == 0) {
       tfar = old_tfar;
       continue;
     }
-    write_hit(hits, n, i, *root, args->primID, args->geomID, *args->context);
+    accept(i, *root);
   }
 }
 
+void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
+  RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+  for_each_filtered_root(
+      args, rays, [&](const RTCFilterFunctionNArguments* f) { rtcFilterIntersection(args, f); },
+      [&](unsigned i, const SphereRoot& root) {
+        write_hit(hits, args->N, i, root, args->primID, args->geomID, *args->context);
+      });
+}
+
 void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
-  const auto* data = static_cast<const AnalyticSpheres*>(args->geometryUserPtr);
-  const FloatSphere& s = data->spheres[args->primID];
-  const unsigned n = args->N;
-  RTCRayN* rays = args->ray;
-  for (unsigned i = 0; i < n; ++i) {
-    if (args->valid[i] == 0) continue;
-    float& tfar = RTCRayN_tfar(rays, n, i);
-    const auto root = intersect_sphere(ray_origin(rays, n, i), ray_direction(rays, n, i), s.centre,
-                                       s.radius, RTCRayN_tnear(rays, n, i), tfar);
-    if (!root) continue;
-    CandidateHit candidate;
-    write_hit(candidate.get(), n, i, *root, args->primID, args->geomID, *args->context);
-    int valid[kMaxPacket] = {};
-    valid[i] = -1;
-    const RTCFilterFunctionNArguments filter{valid, args->geometryUserPtr, args->context,
-                                             rays,  candidate.get(),       n};
-    const float old_tfar = tfar;
-    tfar = root->t;
-    rtcFilterOcclusion(args, &filter);
-    // Embree 3's mark of an occluded ray.
-    tfar = valid[i] != 0 ? -std::numeric_limits<float>::infinity() : old_tfar;
-  }
+  for_each_filtered_root(
+      args, args->ray, [&](const RTCFilterFunctionNArguments* f) { rtcFilterOcclusion(args, f); },
+      [&](unsigned i, const SphereRoot&) {
+        // Embree 3's mark of an occluded ray.
+        RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+      });
 }
 
 }  // namespace

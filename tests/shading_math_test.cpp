@@ -30,7 +30,8 @@ TEST(Fresnel, DielectricValuesAndTotalInternalReflection) {
 TEST(Refraction, FollowsSnellsLaw) {
   for (double angle : {0.0, 10.0, 30.0, 45.0, 60.0, 80.0}) {
     for (float eta : {1.5f, 1.0f / 1.5f, 1.33f}) {
-      const V3f d(static_cast<float>(std::sin(angle * kDeg)), static_cast<float>(-std::cos(angle * kDeg)), 0.0f);
+      const V3f d(static_cast<float>(std::sin(angle * kDeg)),
+                  static_cast<float>(-std::cos(angle * kDeg)), 0.0f);
       V3f t;
       const double sin_t_expected = std::sin(angle * kDeg) / eta;
       const bool refracted = refract(d, V3f(0, 1, 0), eta, &t);
@@ -91,8 +92,8 @@ TEST(MaterialMapping, WhiteSurfaceNeverReflectsMoreThanItReceives) {
         const SurfaceResponse r = evaluate(m, Imath::V2f(0.0f));
         // Diffuse + specular + transmitted at normal incidence (the transmissive part
         // refracts 1 - F of its share), at most 1 in every channel.
-        const float total = r.diffuse_albedo.x + r.specular_colour.x +
-                            r.transmission * (1.0f - dielectric_f0(ior));
+        const float total =
+            r.diffuse_albedo.x + r.specular_colour.x + r.transmission * (1.0f - dielectric_f0(ior));
         EXPECT_LE(total, 1.0f + 1e-6f) << metallic << " " << transmission << " " << ior;
         EXPECT_GE(r.diffuse_albedo.x, 0.0f);
       }

@@ -36,7 +36,7 @@ inline CameraDescription ortho_camera_looking_down_y(double y, double ymag) {
   c.projection = Projection::orthographic;
   c.xmag = c.ymag = ymag;
   // Local -Z to world -Y: rotate +90 degrees about X.
-  c.camera_to_world = M44d(1, 0, 0, 0,  //
+  c.camera_to_world = M44d(1, 0, 0, 0,   //
                            0, 0, -1, 0,  //
                            0, 1, 0, 0,   //
                            0, y, 0, 1);
@@ -46,7 +46,8 @@ inline CameraDescription ortho_camera_looking_down_y(double y, double ymag) {
 inline Mesh quad_mesh(float half, float y, int material) {
   Mesh mesh;
   Primitive p;
-  p.positions = {V3f(-half, y, half), V3f(half, y, half), V3f(half, y, -half), V3f(-half, y, -half)};
+  p.positions = {V3f(-half, y, half), V3f(half, y, half), V3f(half, y, -half),
+                 V3f(-half, y, -half)};
   p.normals = {V3f(0, 1, 0), V3f(0, 1, 0), V3f(0, 1, 0), V3f(0, 1, 0)};
   p.indices = {0, 1, 2, 0, 2, 3};
   p.material = material;
