@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <numbers>
 
@@ -67,12 +68,15 @@ TEST(OrthographicDisc, MeanIsTwoThirdsOfCentreInEverySphereMode) {
     ASSERT_TRUE(parse_sphere_options(mode, &options.spheres, nullptr));
     const auto r = render_scene(disc_scene(), *integrator, settings, options);
     const DiscMeasurement m = measure_disc(r.image);
+    std::printf("disc %-14s centre %.8f  mean/centre %.6f  covered %.0f px\n", mode, m.centre,
+                m.mean / m.centre, m.covered_pixels);
     // Centre: (rho (1 - F0) + F0) / pi * E with rho = 0.5, F0 = 0.04, E = pi.
     const double expected_centre = 0.5 * 0.96 + 0.04;
     // Mesh level 6 puts a vertex at the centre; the relative error of the pixel-grid mean is
     // dominated by the silhouette pixels (about 1/401 of the radius).
     EXPECT_NEAR(m.centre, expected_centre, 1e-5 * expected_centre);
-    EXPECT_NEAR(m.mean / m.centre, 2.0 / 3.0, 2e-3);
+    // Measured: 0.666856 (analytic, points) and 0.666819 (mesh:6), from 401 x 401 pixels.
+    EXPECT_NEAR(m.mean / m.centre, 2.0 / 3.0, 5e-4);
     // One spp through pixel centres: coverage counts pixel centres inside the disc, within
     // a perimeter's worth of pixels of the disc's area pi r^2.
     const double pixels_per_unit = 401.0 / 2.1;
