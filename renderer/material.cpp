@@ -41,6 +41,8 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
   m.emissive_texture = texture_or_null(d.emissive_texture, textures);
   m.transmission = std::clamp(d.transmission, 0.0f, 1.0f);
   m.ior = d.ior >= 1.0f ? d.ior : 1.5f;
+  m.specular = std::clamp(d.specular, 0.0f, 1.0f);
+  m.specular_colour = to_rgb(colour.from_linear_rec709(d.specular_colour));
   return m;
 }
 
@@ -62,16 +64,21 @@ SurfaceResponse evaluate(const Material& material, const Imath::V2f& uv) {
     emission = hadamard(emission, Rgb(t.x, t.y, t.z));
   }
 
-  // Dielectric and metal responses are blended by `metallic`, as glTF does. The dielectric
-  // keeps (1 - F0) of the light for its diffuse and transmitted parts, so the albedo
+  // Dielectric and metal responses are blended by `metallic`, as glTF does. The dielectric's
+  // specular layer reflects F0 (from the ior, tinted and weighted by KHR_materials_specular)
+  // and leaves (1 - max F0) for its diffuse and transmitted parts, so the albedo
   //   (1 - m)(1 - F0) rho + (1 - m) F0 + m rho
   // never exceeds 1 for rho <= 1: a white surface never reflects more than it receives.
-  const float f0 = dielectric_f0(material.ior);
+  const float f0_ior = dielectric_f0(material.ior);
+  const Rgb f0(std::min(f0_ior * material.specular_colour.x, 1.0f) * material.specular,
+               std::min(f0_ior * material.specular_colour.y, 1.0f) * material.specular,
+               std::min(f0_ior * material.specular_colour.z, 1.0f) * material.specular);
+  const float layer = std::max({f0.x, f0.y, f0.z});
   const float dielectric = 1.0f - metallic;
   SurfaceResponse r;
   r.transmission = dielectric * material.transmission;
-  r.diffuse_albedo = base * (dielectric * (1.0f - material.transmission) * (1.0f - f0));
-  r.specular_colour = Rgb(f0, f0, f0) * dielectric + base * metallic;
+  r.diffuse_albedo = base * (dielectric * (1.0f - material.transmission) * (1.0f - layer));
+  r.specular_colour = f0 * dielectric + base * metallic;
   r.phong_exponent = phong_exponent_from_roughness(roughness);
   r.mirror = roughness <= kMirrorRoughness;
   r.ior = material.ior;

@@ -33,6 +33,8 @@ struct Material {
   const Texture* emissive_texture = nullptr;
   float transmission = 0.0f;
   float ior = 1.5f;
+  float specular = 1.0f;  // KHR_materials_specular
+  Rgb specular_colour{1.0f, 1.0f, 1.0f};
 };
 
 // The shading model's parameters at one surface point.

@@ -54,6 +54,8 @@ struct MaterialDescription {
   int emissive_texture = -1;
   float transmission = 0.0f;  // KHR_materials_transmission
   float ior = 1.5f;           // KHR_materials_ior
+  float specular = 1.0f;      // KHR_materials_specular: specularFactor
+  C3f specular_colour{1.0f, 1.0f, 1.0f};  // KHR_materials_specular: specularColorFactor
   bool double_sided = false;
 };
 

@@ -13,9 +13,9 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<const char*, 5> kSupportedExtensions = {
+constexpr std::array<const char*, 6> kSupportedExtensions = {
     "KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior",
-    "KHR_materials_emissive_strength", "PRISM_sphere"};
+    "KHR_materials_emissive_strength", "KHR_materials_specular", "PRISM_sphere"};
 
 class Checker {
  public:
@@ -227,6 +227,12 @@ void check_material(const Checker& c, const json& m, const std::string& p) {
     }
     if (auto t = ext->find("KHR_materials_ior"); t != ext->end()) {
       c.number(*t, "ior", ep + ".KHR_materials_ior");
+    }
+    if (auto t = ext->find("KHR_materials_specular"); t != ext->end()) {
+      c.number(*t, "specularFactor", ep + ".KHR_materials_specular");
+      c.number_array(*t, "specularColorFactor", ep + ".KHR_materials_specular", 3);
+      c.texture_info(*t, "specularTexture", ep + ".KHR_materials_specular");
+      c.texture_info(*t, "specularColorTexture", ep + ".KHR_materials_specular");
     }
     if (auto t = ext->find("KHR_materials_emissive_strength"); t != ext->end()) {
       c.number(*t, "emissiveStrength", ep + ".KHR_materials_emissive_strength");

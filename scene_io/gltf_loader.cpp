@@ -235,6 +235,25 @@ class Converter {
       if (ior < 1.0) error(e + ".ior", "index of refraction " + std::to_string(ior) + " is < 1");
       d.ior = static_cast<float>(ior);
     }
+    if (const auto* ext = find_extension(m.extensions, "KHR_materials_specular")) {
+      const std::string e = ext_element + "KHR_materials_specular";
+      d.specular = unit_factor(extension_number(*ext, "specularFactor", 1.0, e),
+                               e + ".specularFactor");
+      if (ext->Has("specularColorFactor")) {
+        const tinygltf::Value& v = ext->Get("specularColorFactor");
+        if (!v.IsArray() || v.ArrayLen() != 3) error(e + ".specularColorFactor", "expected 3 numbers");
+        for (int i = 0; i < 3; ++i) {
+          const tinygltf::Value& c = v.Get(i);
+          // The extension allows colours above 1 (F0 is clamped to 1 after the product).
+          if (!c.IsNumber() || !std::isfinite(c.GetNumberAsDouble()) || c.GetNumberAsDouble() < 0.0)
+            error(indexed(e + ".specularColorFactor", i), "expected a finite number >= 0");
+          d.specular_colour[i] = static_cast<float>(c.GetNumberAsDouble());
+        }
+      }
+      for (const char* slot : {"specularTexture", "specularColorTexture"}) {
+        if (ext->Has(slot)) warn(e + "." + slot, "not supported yet; the factors are used alone");
+      }
+    }
     return d;
   }
 

@@ -105,7 +105,8 @@ class Builder:
         self.gltf["meshes"].append({"name": name, "primitives": [prim]})
         return len(self.gltf["meshes"]) - 1
 
-    def material(self, name, base, metallic, roughness, transmission=0.0, ior=None, texture=None):
+    def material(self, name, base, metallic, roughness, transmission=0.0, ior=None, texture=None,
+                 specular=None):
         m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": list(base) + [1.0],
                                                     "metallicFactor": metallic,
                                                     "roughnessFactor": roughness}}
@@ -118,6 +119,9 @@ class Builder:
         if ior is not None:
             m.setdefault("extensions", {})["KHR_materials_ior"] = {"ior": ior}
             self.use_extension("KHR_materials_ior")
+        if specular is not None:
+            m.setdefault("extensions", {})["KHR_materials_specular"] = {"specularFactor": specular}
+            self.use_extension("KHR_materials_specular")
         self.gltf["materials"].append(m)
         return len(self.gltf["materials"]) - 1
 
@@ -229,6 +233,19 @@ def spheres_scene():
     b.write("spheres.gltf")
 
 
+def furnace_scene():
+    """pbrt-v4's RadianceMatches furnace: the camera inside a closed Lambertian sphere of
+    radius 1 and albedo 0.5, an isotropic point light of pi candela at its centre. Every
+    pixel's direct radiance is exactly 0.5 (E = pi / 1^2, L = 0.5 / pi * E)."""
+    b = Builder()
+    lambert = b.material("lambert 0.5", (0.5, 0.5, 0.5), 0.0, 1.0, specular=0.0)
+    b.sphere("furnace", (0.0, 0.0, 0.0), 1.0, lambert, level=3)
+    b.light("bulb", {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": math.pi},
+            translation=[0.0, 0.0, 0.0])
+    b.camera("inside", (0.0, 0.0, 0.0), (0.0, 0.0, -1.0), 1.2, 1.0)
+    b.write("furnace.gltf")
+
+
 def normalised(v):
     n = math.sqrt(sum(c * c for c in v))
     return tuple(c / n for c in v)
@@ -236,3 +253,4 @@ def normalised(v):
 
 if __name__ == "__main__":
     spheres_scene()
+    furnace_scene()
