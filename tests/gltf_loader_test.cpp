@@ -523,7 +523,9 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
                     {"extensions",
                      {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
                       {"KHR_materials_ior", {{"ior", 1.33}}},
-                      {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+                      {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
+                      {"KHR_materials_specular",
+                       {{"specularFactor", 0.5}, {"specularColorFactor", {2.0, 1.0, 0.0}}}}}}},
                    json::object()});
   b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}},
                            {"indices",
@@ -542,6 +544,8 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_EQ(m.emissive, C3f(2.0f, 1.0f, 4.0f));
   EXPECT_FLOAT_EQ(m.transmission, 0.75f);
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
+  EXPECT_FLOAT_EQ(m.specular, 0.5f);
+  EXPECT_EQ(m.specular_colour, C3f(2.0f, 1.0f, 0.0f));  // above 1 is allowed by the extension
   // glTF's defaults.
   const MaterialDescription& d = s.materials[1];
   EXPECT_EQ(d.name, "materials[1]");
@@ -551,6 +555,8 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_FLOAT_EQ(d.transmission, 0.0f);
   EXPECT_EQ(d.emissive, C3f(0.0f, 0.0f, 0.0f));
   EXPECT_FALSE(d.double_sided);
+  EXPECT_FLOAT_EQ(d.specular, 1.0f);
+  EXPECT_EQ(d.specular_colour, C3f(1.0f, 1.0f, 1.0f));
   EXPECT_EQ(s.meshes.at(0).primitives.at(0).material, 0);
   EXPECT_TRUE(has_warning(s, "extensionsUsed: extension KHR_materials_sheen"));
 }
@@ -672,6 +678,14 @@ TEST(GltfLoaderHandMade, ValidationErrorsNameTheElement) {
          b.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"metallicFactor", 2}}}}});
        },
        "materials[0].pbrMetallicRoughness.metallicFactor"},
+      {"bad_specular_colour.gltf",
+       [](Builder& b) {
+         b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}}})}});
+         b.doc["materials"] = json::array({{{"extensions",
+                                             {{"KHR_materials_specular",
+                                               {{"specularColorFactor", {1, -1, 1}}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_specular.specularColorFactor[1]"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
