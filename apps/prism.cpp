@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/diff_command.h"
 #include "apps/render_command.h"
 #include "renderer/version.h"
 
@@ -12,6 +13,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   prism::RenderOptions render_options;
   CLI::App* render = prism::add_render_command(app, &render_options);
+  prism::DiffOptions diff_options;
+  CLI::App* diff = prism::add_diff_command(app, &diff_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -23,9 +26,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Usage errors exit with 2, as most command-line tools do.
     std::fprintf(stderr, "prism: error: %s (see prism %s--help)\n", e.what(),
-                 render->parsed() ? "render " : "");
+                 render->parsed() ? "render "
+                 : diff->parsed() ? "diff "
+                                  : "");
     return 2;
   }
   if (render->parsed()) return prism::run_render(render_options);
+  if (diff->parsed()) return prism::run_diff(diff_options);
   return 2;
 }

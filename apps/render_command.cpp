@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <tbb/global_control.h>
 
@@ -13,6 +14,7 @@
 #include "integrators/integrators.h"
 #include "renderer/camera.h"
 #include "renderer/colour.h"
+#include "renderer/image_metrics.h"
 #include "renderer/image_output.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
@@ -80,6 +82,19 @@ std::string with_commas(uint64_t n) {
   return s;
 }
 
+// The error after one pass, against --reference.
+struct QuickError {
+  double rmse = 0.0;
+  double relmse = 0.0;
+};
+
+// Six significant digits, as `prism diff` and idiff print.
+std::string format_error(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
 int run(const RenderOptions& o) {
   const auto wall_start = std::chrono::steady_clock::now();
   IntegratorKind integrator_kind;
@@ -103,6 +118,15 @@ int run(const RenderOptions& o) {
     throw UsageError("--ambient: must be a finite radiance >= 0");
   if (!std::isfinite(o.background) || o.background < 0.0f)
     throw UsageError("--background: must be a finite radiance >= 0");
+  // Read before the scene, so a wrong path costs nothing.
+  Image reference;
+  if (!o.reference_path.empty()) {
+    try {
+      reference = read_exr(o.reference_path);
+    } catch (const std::exception& e) {
+      throw UsageError(std::string("--reference ") + e.what());
+    }
+  }
 
   std::unique_ptr<tbb::global_control> thread_limit;
   if (o.threads > 0)
@@ -122,6 +146,12 @@ int run(const RenderOptions& o) {
     settings.height = 480;
     settings.width =
         std::max(1, static_cast<int>(std::lround(480.0 * camera_description.aspect_ratio)));
+  }
+  if (!o.reference_path.empty() &&
+      (reference.width != settings.width || reference.height != settings.height)) {
+    throw UsageError("--reference " + o.reference_path + " is " + std::to_string(reference.width) +
+                     "x" + std::to_string(reference.height) + " but the render is " +
+                     std::to_string(settings.width) + "x" + std::to_string(settings.height));
   }
   settings.spp = o.spp;
   settings.max_depth = o.max_depth;
@@ -145,11 +175,24 @@ int run(const RenderOptions& o) {
                  settings.height, settings.spp, load_seconds);
   }
 
-  ProgressBar progress(!o.quiet);
+  // With a reference, the per-pass lines report progress, and a bar would garble them.
+  ProgressBar progress(!o.quiet && o.reference_path.empty());
   Image image;
   const RenderContext context{render_scene, camera, settings};
-  const RenderResult result = render(*integrator, context, &image,
-                                     [&](int done, int total) { progress.update(done, total); });
+  std::vector<QuickError> pass_errors;
+  PassCallback after_pass;
+  if (!o.reference_path.empty()) {
+    after_pass = [&](int samples, const Image& so_far) {
+      const ImageError e = compare_images(so_far, reference);
+      pass_errors.push_back({e.overall.rmse, e.overall.relmse});
+      if (!o.quiet)
+        std::fprintf(stderr, "prism: pass %d/%d: RMSE %.6g relMSE %.6g\n", samples, settings.spp,
+                     e.overall.rmse, e.overall.relmse);
+    };
+  }
+  const RenderResult result = render(
+      *integrator, context, &image, [&](int done, int total) { progress.update(done, total); },
+      after_pass);
   progress.finish();
 
   RenderMetadata metadata;
@@ -165,7 +208,21 @@ int run(const RenderOptions& o) {
                     {"raysCamera", std::to_string(result.rays.camera)},
                     {"raysShadow", std::to_string(result.rays.shadow)},
                     {"raysReflection", std::to_string(result.rays.reflection)},
-                    {"raysRefraction", std::to_string(result.rays.refraction)}};
+                    {"raysRefraction", std::to_string(result.rays.refraction)},
+                    {"discardedSamples", std::to_string(result.rays.discarded_samples)}};
+  if (!pass_errors.empty()) {
+    std::string rmse, relmse;
+    for (const QuickError& e : pass_errors) {
+      rmse += (rmse.empty() ? "" : ",") + format_error(e.rmse);
+      relmse += (relmse.empty() ? "" : ",") + format_error(e.relmse);
+    }
+    metadata.extra.insert(metadata.extra.end(),
+                          {{"reference", o.reference_path},
+                           {"referenceRMSE", format_error(pass_errors.back().rmse)},
+                           {"referenceRelMSE", format_error(pass_errors.back().relmse)},
+                           {"referenceRMSEPerPass", rmse},
+                           {"referenceRelMSEPerPass", relmse}});
+  }
   write_exr(o.output_path, image, colour, metadata,
             o.half ? ExrPixelType::half : ExrPixelType::float32);
   if (!o.preview_path.empty()) write_png_preview(o.preview_path, image, colour);
@@ -184,6 +241,11 @@ int run(const RenderOptions& o) {
                 with_commas(r.reflection).c_str(), with_commas(r.refraction).c_str(),
                 with_commas(r.total()).c_str());
     std::printf("rays/second  %.3g\n", result.seconds > 0.0 ? r.total() / result.seconds : 0.0);
+    std::printf("discarded    %s non-finite samples\n", with_commas(r.discarded_samples).c_str());
+    if (!pass_errors.empty())
+      std::printf("reference    RMSE %s, relMSE %s against %s\n",
+                  format_error(pass_errors.back().rmse).c_str(),
+                  format_error(pass_errors.back().relmse).c_str(), o.reference_path.c_str());
     std::printf("wrote        %s\n", o.output_path.c_str());
     if (!o.preview_path.empty()) std::printf("wrote        %s\n", o.preview_path.c_str());
   }
@@ -220,6 +282,10 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
       ->capture_default_str();
   cmd->add_option("--background", o->background, "Radiance of rays that leave the scene")
       ->capture_default_str();
+  cmd->add_option("--reference", o->reference_path,
+                  "Render one sample per pixel per pass and log each pass's RMSE and relMSE "
+                  "(mean of (a-b)^2/(b^2+0.01)) against this EXR on stderr; they also go into the "
+                  "output's metadata. The image itself is unchanged");
   cmd->add_flag("--half", o->half, "Write half-float EXR pixels instead of 32-bit float");
   cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress bar and no summary");

@@ -19,6 +19,7 @@ struct RenderOptions {
   int max_depth = 5;
   std::string spheres = "analytic";
   std::string working_space = "linear-rec709";
+  std::string reference_path;  // measure the error against this image after every pass
   float ambient = 0.0f;
   float background = 0.0f;
   bool half = false;

@@ -3,6 +3,7 @@
 // loop: no virtual call per ray.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "renderer/integrator.h"
@@ -15,17 +16,21 @@ struct SampleResult {
   bool hit = false;  // the camera ray found geometry (feeds the alpha channel)
 };
 
+// The NaN firewall: a sample whose radiance is NaN or infinite is discarded and counted
+// (RayCounters::discarded_samples) instead of poisoning its pixel for good. A pixel is the
+// mean of its kept samples, and 0 with alpha 0 when none was kept. Without discards this is
+// exactly the plain mean: the same float sums in sample order, divided the same way.
 template <typename RadianceFn>
 void render_tile_with(const RenderContext& context, const TileRect& tile, Image* image,
                       RayCounters* counters, RadianceFn&& radiance) {
   const int spp = context.settings.spp;
-  const float inv_spp = 1.0f / static_cast<float>(spp);
+  const SamplePass& pass = context.pass;
+  const int end = pass.end < 0 ? spp : pass.end;
   for (int y = tile.y0; y < tile.y1; ++y) {
     for (int x = tile.x0; x < tile.x1; ++x) {
       const uint64_t pixel_index = static_cast<uint64_t>(y) * context.settings.width + x;
-      Imath::V3f sum(0.0f);
-      int hits = 0;
-      for (int s = 0; s < spp; ++s) {
+      PixelSums sums = pass.sums ? pass.sums[pixel_index] : PixelSums{};
+      for (int s = pass.first; s < end; ++s) {
         // One sample goes through the pixel centre (the lecture's view ray); more are
         // spread uniformly over the pixel (a box filter).
         const float jx = spp == 1 ? 0.5f : sample_uniform(pixel_index, s, 0);
@@ -34,14 +39,26 @@ void render_tile_with(const RenderContext& context, const TileRect& tile, Image*
             context.camera.generate_ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
         ++counters->camera;
         const SampleResult r = radiance(ray, counters);
-        sum += r.radiance;
-        hits += r.hit ? 1 : 0;
+        if (!std::isfinite(r.radiance.x) || !std::isfinite(r.radiance.y) ||
+            !std::isfinite(r.radiance.z)) {
+          ++counters->discarded_samples;
+          continue;
+        }
+        sums.radiance += r.radiance;
+        sums.hits += r.hit ? 1 : 0;
+        ++sums.kept;
       }
+      if (pass.sums) pass.sums[pixel_index] = sums;
       float* out = image->pixel(x, y);
-      out[0] = sum.x * inv_spp;
-      out[1] = sum.y * inv_spp;
-      out[2] = sum.z * inv_spp;
-      out[3] = static_cast<float>(hits) * inv_spp;
+      if (sums.kept == 0) {
+        out[0] = out[1] = out[2] = out[3] = 0.0f;
+        continue;
+      }
+      const float inv_kept = 1.0f / static_cast<float>(sums.kept);
+      out[0] = sums.radiance.x * inv_kept;
+      out[1] = sums.radiance.y * inv_kept;
+      out[2] = sums.radiance.z * inv_kept;
+      out[3] = static_cast<float>(sums.hits) * inv_kept;
     }
   }
 }

@@ -18,6 +18,8 @@ struct RayCounters {
   uint64_t shadow = 0;
   uint64_t reflection = 0;
   uint64_t refraction = 0;
+  // Not rays: samples whose radiance was NaN or infinite, left out of their pixel.
+  uint64_t discarded_samples = 0;
 
   uint64_t total() const { return camera + shadow + reflection + refraction; }
   RayCounters& operator+=(const RayCounters& o) {
@@ -25,6 +27,7 @@ struct RayCounters {
     shadow += o.shadow;
     reflection += o.reflection;
     refraction += o.refraction;
+    discarded_samples += o.discarded_samples;
     return *this;
   }
 };
@@ -44,17 +47,35 @@ struct TileRect {
   int x0, y0, x1, y1;  // [x0, x1) x [y0, y1)
 };
 
+// A pixel's running totals over the samples taken so far, kept between passes.
+struct PixelSums {
+  Imath::V3f radiance{0.0f, 0.0f, 0.0f};
+  uint32_t hits = 0;  // kept samples whose camera ray found geometry
+  uint32_t kept = 0;  // samples with finite radiance
+};
+
+// Which samples of each pixel a render_tile call takes. The default is all of them in one
+// go; renderer/render.cpp takes one sample per pass when it is asked for the image after
+// every pass, keeping the sums in `sums` (one per pixel, row-major) between calls.
+struct SamplePass {
+  int first = 0;
+  int end = -1;               // exclusive; -1 = settings.spp
+  PixelSums* sums = nullptr;  // null: a single pass, sums live on the stack
+};
+
 struct RenderContext {
   const RenderScene& scene;
   const Camera& camera;
   const RenderSettings& settings;
+  SamplePass pass{};
 };
 
 class Integrator {
  public:
   virtual ~Integrator() = default;
   virtual const char* name() const = 0;
-  // Writes the final RGBA of every pixel in `tile`; adds the rays it cast to `counters`.
+  // Takes context.pass's samples of every pixel in `tile` and writes the mean so far as its
+  // RGBA; adds the rays it cast (and the samples it discarded) to `counters`.
   virtual void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                            RayCounters* counters) const = 0;
 };

@@ -1,0 +1,25 @@
+// `prism diff`: error metrics between an image and a reference (renderer/image_metrics.h).
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace prism {
+
+struct DiffOptions {
+  std::string image_path;
+  std::string reference_path;
+  std::string metric = "all";  // rmse | relmse | psnr | max | all
+  bool has_fail_above = false;
+  double fail_above = 0.0;
+};
+
+// Adds the `diff` subcommand to `app`, filling `options` when it is parsed.
+CLI::App* add_diff_command(CLI::App& app, DiffOptions* options);
+
+// Returns 0 when the images compare within --fail-above (or none was given), 1 when the
+// chosen metric is past it, 2 when they cannot be compared (unreadable, different sizes).
+int run_diff(const DiffOptions& options);
+
+}  // namespace prism

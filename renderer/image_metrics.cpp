@@ -1,0 +1,142 @@
+#include "renderer/image_metrics.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace prism {
+namespace {
+
+bool pixel_is_finite(const float* p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) && std::isfinite(p[3]);
+}
+
+double psnr_from_mse(double mse) {
+  if (mse == 0.0) return std::numeric_limits<double>::infinity();
+  return 10.0 * std::log10(kPsnrPeak * kPsnrPeak / mse);
+}
+
+// Keeps the first location in scan order on ties, as idiff does, so the two can be compared.
+void track_max(double abs_error, int x, int y, ChannelError* e) {
+  if (e->max_x < 0 || abs_error > e->max_abs) {
+    e->max_abs = abs_error;
+    e->max_x = x;
+    e->max_y = y;
+  }
+}
+
+[[noreturn]] void fail(const std::string& path, std::string reason) {
+  std::replace(reason.begin(), reason.end(), '\n', ' ');
+  while (!reason.empty() && reason.back() == ' ') reason.pop_back();
+  throw std::runtime_error(path + ": " + reason);
+}
+
+int find_channel(const OIIO::ImageSpec& spec, const char* name) {
+  for (int c = 0; c < spec.nchannels; ++c)
+    if (spec.channelnames[static_cast<size_t>(c)] == name) return c;
+  return -1;
+}
+
+}  // namespace
+
+ImageError compare_images(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height)
+    throw std::invalid_argument("images differ in size: " + std::to_string(a.width) + "x" +
+                                std::to_string(a.height) + " and " + std::to_string(b.width) + "x" +
+                                std::to_string(b.height));
+  ImageError e;
+  // Sums in double: a 4K image has 25 million terms, far past float's 24-bit mantissa.
+  std::array<double, 3> squared{}, relative{};
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      const float* pa = a.pixel(x, y);
+      const float* pb = b.pixel(x, y);
+      const bool finite_a = pixel_is_finite(pa);
+      const bool finite_b = pixel_is_finite(pb);
+      e.non_finite_a += finite_a ? 0 : 1;
+      e.non_finite_b += finite_b ? 0 : 1;
+      if (!finite_a || !finite_b) continue;
+      ++e.compared_pixels;
+      for (int c = 0; c < 3; ++c) {
+        const double ref = pb[c];
+        const double d = static_cast<double>(pa[c]) - ref;
+        squared[static_cast<size_t>(c)] += d * d;
+        relative[static_cast<size_t>(c)] += d * d / (ref * ref + kRelMseEpsilon);
+        const double abs_error = std::fabs(d);
+        track_max(abs_error, x, y, &e.channel[static_cast<size_t>(c)]);
+        if (e.overall.max_x < 0 || abs_error > e.overall.max_abs) {
+          track_max(abs_error, x, y, &e.overall);
+          e.max_channel = c;
+        }
+      }
+    }
+  }
+  const double n = static_cast<double>(e.compared_pixels);
+  if (e.compared_pixels == 0) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (ChannelError* c : {&e.channel[0], &e.channel[1], &e.channel[2], &e.overall})
+      *c = ChannelError{nan, nan, nan, nan, -1, -1};
+    return e;
+  }
+  double squared_all = 0.0, relative_all = 0.0;
+  for (size_t c = 0; c < 3; ++c) {
+    const double mse = squared[c] / n;
+    e.channel[c].rmse = std::sqrt(mse);
+    e.channel[c].relmse = relative[c] / n;
+    e.channel[c].psnr = psnr_from_mse(mse);
+    squared_all += squared[c];
+    relative_all += relative[c];
+  }
+  const double mse = squared_all / (3.0 * n);
+  e.overall.rmse = std::sqrt(mse);
+  e.overall.relmse = relative_all / (3.0 * n);
+  e.overall.psnr = psnr_from_mse(mse);
+  return e;
+}
+
+Image read_exr(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+  if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory");
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+  if (!in) fail(path, OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.deep) fail(path, "deep images are not supported");
+  if (spec.width < 1 || spec.height < 1 || spec.depth != 1 || spec.nchannels < 1)
+    fail(path, "not a 2D image with at least one channel");
+  const size_t nch = static_cast<size_t>(spec.nchannels);
+  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * nch);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+    fail(path, in->geterror());
+  in->close();
+
+  // Named channels first (EXR files may carry more, e.g. Z), else the first non-alpha ones.
+  const int alpha = spec.alpha_channel;
+  std::array<int, 3> colour{find_channel(spec, "R"), find_channel(spec, "G"),
+                            find_channel(spec, "B")};
+  if (colour[0] < 0 || colour[1] < 0 || colour[2] < 0) {
+    std::vector<int> others;
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (c != alpha) others.push_back(c);
+    if (others.empty()) fail(path, "has only an alpha channel");
+    // One channel is luminance; with two, the missing blue stays zero (-1).
+    for (size_t i = 0; i < 3; ++i)
+      colour[i] = others.size() == 1 ? others[0] : (i < others.size() ? others[i] : -1);
+  }
+
+  Image image(spec.width, spec.height);
+  for (size_t p = 0; p < static_cast<size_t>(spec.width) * spec.height; ++p) {
+    const float* src = &pixels[p * nch];
+    float* dst = &image.rgba[p * 4];
+    for (size_t i = 0; i < 3; ++i) dst[i] = colour[i] >= 0 ? src[colour[i]] : 0.0f;
+    dst[3] = alpha >= 0 ? src[alpha] : 1.0f;
+  }
+  return image;
+}
+
+}  // namespace prism
