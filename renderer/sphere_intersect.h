@@ -34,17 +34,20 @@ struct SphereRoot {
 inline std::optional<SphereRoot> intersect_sphere(const Imath::V3f& o, const Imath::V3f& d,
                                                   const Imath::V3f& centre, float radius,
                                                   float tnear, float tfar) {
-  const Imath::V3f f = o - centre;
-  const float a = d.dot(d);
-  if (!(a > 0.0f)) return std::nullopt;  // a zero or NaN direction never hits
-  const float b_half = -f.dot(d);        // b' = -b / 2
-  // c is the one input formed in double. For an origin near the surface (every secondary
-  // ray) f.f and r^2 cancel almost entirely, and the small root c / q below inherits c's
-  // relative error: in float 2e-5 for an origin 10^-4 r off the surface, in double none.
-  // o - centre is exact in double unless the two differ in magnitude by over 2^29, and the
-  // squares of its float-sized components are exact too.
-  const Imath::V3d fd(double(o.x) - centre.x, double(o.y) - centre.y, double(o.z) - centre.z);
-  const float c = float(fd.dot(fd) - double(radius) * radius);
+  // The whole test runs in double on the float inputs and rounds t and the offset to float
+  // once. o - centre is exact in double unless the two differ in magnitude by over 2^29, and
+  // the squares of float-sized components are exact, so what is left is the robust form's own
+  // small error: t within half an ulp for a unit sphere 10^5 away (tests/stress/01), where the
+  // same form in float is off by up to 37 ulps for rays grazing the rim.
+  const Imath::V3d dd(d.x, d.y, d.z);
+  const double a = dd.dot(dd);
+  if (!(a > 0.0)) return std::nullopt;  // a zero or NaN direction never hits
+  const Imath::V3d f(double(o.x) - centre.x, double(o.y) - centre.y, double(o.z) - centre.z);
+  const double r2 = double(radius) * radius;
+  const double b_half = -f.dot(dd);  // b' = -b / 2
+  // c = f.f - r^2 cancels almost entirely for an origin near the surface (every secondary
+  // ray); the small root c / q below inherits its relative error.
+  const double c = f.dot(f) - r2;
 
   // The quarter discriminant b'^2 - a c equals a (r^2 - |l|^2), where l = f + (b'/a) d is the
   // vector from the centre to the ray's closest approach:
@@ -52,46 +55,41 @@ inline std::optional<SphereRoot> intersect_sphere(const Imath::V3f& o, const Ima
   //   a (r^2 - |l|^2) = a r^2 - a f.f + (f.d)^2 = b'^2 - a (f.f - r^2) = b'^2 - a c.
   // b'^2 and a c are both ~|f|^2 and their difference ~r^2; l is ~r, so r^2 - |l|^2 only
   // carries l's own rounding (~|f| eps from the projection) instead of |f|^2 eps.
-  const Imath::V3f l = f + (b_half / a) * d;
-  const float delta = radius * radius - l.dot(l);
-  if (delta < 0.0f) return std::nullopt;  // NaN inputs fail the tests below instead
+  const Imath::V3d l = f + (b_half / a) * dd;
+  const double delta = r2 - l.dot(l);
+  if (!(delta >= 0.0)) return std::nullopt;  // also rejects NaN inputs
 
   // The two roots are (b' -+ sqrt(a delta)) / a. Adding the square root with b''s sign never
   // cancels; the other root then follows from t0 t1 = c / a without a subtraction.
-  const float s = std::sqrt(a * delta);
-  const float q = b_half + std::copysign(s, b_half);
-  float t_small, t_large;
-  if (q == 0.0f) {
+  const double q = b_half + std::copysign(std::sqrt(a * delta), b_half);
+  double t_small, t_large;
+  if (q == 0.0) {
     // b' = 0 and delta = 0: the origin is the tangent point, a double root at 0.
-    t_small = t_large = 0.0f;
+    t_small = t_large = 0.0;
   } else {
-    const float t0 = c / q;
-    const float t1 = q / a;
+    const double t0 = c / q, t1 = q / a;
     t_small = std::fmin(t0, t1);
     t_large = std::fmax(t0, t1);
   }
 
   SphereRoot root;
-  if (t_small >= tnear && t_small <= tfar) {
-    root.t = t_small;
+  const auto in_range = [&](double t) {
+    return static_cast<float>(t) >= tnear && static_cast<float>(t) <= tfar;
+  };
+  if (in_range(t_small)) {
+    root.t = static_cast<float>(t_small);
     root.exiting = false;
-  } else if (t_large >= tnear && t_large <= tfar) {
-    root.t = t_large;
+  } else if (in_range(t_large)) {
+    root.t = static_cast<float>(t_large);
     root.exiting = true;
   } else {
     return std::nullopt;
   }
   // hit - centre = f + t d = l + (t - b'/a) d, and t - b'/a is exactly -+ sqrt(delta / a) for
-  // the entering / exiting root. In float, l carries the ~|f| eps rounding of its
-  // cancellation, which at 10^5 radii tilts the normal by a degree; in double the same steps
-  // cost a few scalar operations and leave only the final rounding to float. delta is clamped
-  // because a ray float calls a hit may pass a hair outside in exact arithmetic; then the tangent
-  // point is the answer.
-  const Imath::V3d dd(d.x, d.y, d.z);
-  const double ad = dd.dot(dd);
-  const Imath::V3d ld = fd - (fd.dot(dd) / ad) * dd;
-  const double along = std::sqrt(std::fmax(0.0, double(radius) * radius - ld.dot(ld)) / ad);
-  const Imath::V3d offset = ld + (root.exiting ? along : -along) * dd;
+  // the entering / exiting root, so the offset inherits none of t's rounding and the normal
+  // stays exact at any distance.
+  const double along = std::sqrt(delta / a);
+  const Imath::V3d offset = l + (root.exiting ? along : -along) * dd;
   root.offset = Imath::V3f(float(offset.x), float(offset.y), float(offset.z));
   return root;
 }
