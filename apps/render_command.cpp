@@ -159,10 +159,13 @@ int run(const RenderOptions& o) {
   settings.ambient = V3f(o.ambient);
   settings.background = V3f(o.background);
 
+  // Rebased on the camera so rays, hits and lights stay near 0 in float wherever the scene
+  // sits in the world (docs/stress-shading.md, huge coordinates).
+  geometry_options.world_origin = camera_position(camera_description);
   const RenderScene render_scene(scene, geometry_options, colour);
   const double load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
-  const Camera camera(camera_description, settings.width, settings.height);
+  const Camera camera = render_scene.camera(camera_description, settings.width, settings.height);
   const std::unique_ptr<Integrator> integrator = make_integrator(integrator_kind);
   const GeometryStatistics& stats = render_scene.geometry().statistics();
   if (o.verbose) {

@@ -32,11 +32,17 @@ Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
     const float cos_light = dot(n, arrival.to_light);
     if (cos_light <= 0.0f) continue;
     if constexpr (Shadows) {
-      // The origin leaves on the light's side of the true surface, whatever the shading
-      // normal says.
-      const V3f side = face_forward(hit.geometric_normal, arrival.to_light);
+      // The light is on the shading normal's side. On the front side of a smooth-shaded
+      // triangle the ray starts from Hanika's point on the smooth surface
+      // (SurfaceHit::terminator_offset), and leaves along n: near the terminator the light
+      // can be behind the flat triangle (N_g . L < 0) while the smooth surface faces it, and
+      // an origin pushed behind the triangle would be shadowed by the mesh's own inside.
+      // The offset is Hanika's for convex-from-the-front surfaces only, so seen from behind
+      // (n on the back side) the hit point itself is used.
+      const bool front = dot(n, hit.geometric_normal) > 0.0f;
+      const V3f from = front ? hit.position + hit.terminator_offset : hit.position;
       Ray shadow_ray;
-      shadow_ray.origin = offset_ray_origin(hit.position, side);
+      shadow_ray.origin = offset_ray_origin(from, n);
       shadow_ray.direction = arrival.to_light;
       shadow_ray.tfar = arrival.distance;
       ++counters->shadow;

@@ -14,15 +14,20 @@ V3f row_axis(const M44d& m, int row) {
 
 }  // namespace
 
-Camera::Camera(const CameraDescription& description, int image_width, int image_height)
-    : description_(description), width_(image_width), height_(image_height) {
+Camera::Camera(const CameraDescription& description, int image_width, int image_height,
+               const V3d& world_origin)
+    : description_(description),
+      width_(image_width),
+      height_(image_height),
+      world_origin_(world_origin) {
   const M44d& m = description.camera_to_world;
   // glTF forbids scale on camera nodes but files have it; the axes are renormalised so
   // that a scaled camera still sees what its field of view says.
   right_ = normalize(row_axis(m, 0));
   up_ = normalize(row_axis(m, 1));
   forward_ = -normalize(row_axis(m, 2));
-  origin_ = row_axis(m, 3);
+  // Subtracted in double, then rounded: the camera near the shifted frame's origin.
+  origin_ = V3f(V3d(m[3][0], m[3][1], m[3][2]) - world_origin_);
   // The image's own aspect ratio decides the horizontal extent, so pixels stay square
   // whatever aspectRatio the file states.
   const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
@@ -32,6 +37,11 @@ Camera::Camera(const CameraDescription& description, int image_width, int image_
     half_height_ = static_cast<float>(description.ymag);
   }
   half_width_ = half_height_ * aspect;
+}
+
+V3d camera_position(const CameraDescription& description) {
+  const M44d& m = description.camera_to_world;
+  return V3d(m[3][0], m[3][1], m[3][2]);
 }
 
 Ray Camera::generate_ray(float px, float py) const {
@@ -49,10 +59,11 @@ Ray Camera::generate_ray(float px, float py) const {
 }
 
 M44d Camera::world_to_camera() const {
+  const V3d position = V3d(origin_) + world_origin_;
   M44d camera_to_world(right_.x, right_.y, right_.z, 0.0,  //
                        up_.x, up_.y, up_.z, 0.0,           //
-                       -forward_.x, -forward_.y, -forward_.z, 0.0, origin_.x, origin_.y, origin_.z,
-                       1.0);
+                       -forward_.x, -forward_.y, -forward_.z, 0.0, position.x, position.y,
+                       position.z, 1.0);
   return camera_to_world.inverse();
 }
 

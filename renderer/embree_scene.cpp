@@ -1,5 +1,6 @@
 #include "renderer/embree_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -17,23 +18,132 @@ using Imath::V2f;
 // float3 vertex, 4 past the end of the last one.
 struct EmbreeScene::TriangleMesh {
   std::vector<V3f> positions;
-  std::vector<V3f> normals;  // empty: shade with the geometric normal (flat)
+  std::vector<V3f> normals;  // unit or zero; empty: shade with the geometric normal (flat)
   std::vector<V2f> uv;
   std::vector<uint32_t> indices;
   int material = -1;
   size_t vertex_count() const { return positions.empty() ? 0 : positions.size() - 1; }
 };
 
-// The primitive as is, in its own space, padded for Embree's read-ahead.
-std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Primitive& p) {
+namespace {
+
+bool finite(const V3f& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+struct CleaningCounts {
+  size_t degenerate = 0;
+  size_t nonfinite = 0;
+  size_t normals_repaired = 0;
+};
+
+// Makes a triangle list safe to hand to Embree and to shade, in the space Embree will see
+// it in (world for baked meshes, object for instanced ones):
+//   - drops triangles with an index out of range or repeated, with a non-finite vertex, or
+//     with zero area: twice the area |e1 x e2|, in double, at most 1e-12 times the longest
+//     edge squared, i.e. a height below 1e-12 of the base, far under float's resolution of
+//     1.2e-7, so only triangles that are collinear to rounding go. Embree would never report
+//     a useful hit on them (Ng is zero or noise), and garbage indices could crash it;
+//   - zeroes the positions of vertices no kept triangle uses, so no NaN reaches Embree;
+//   - drops normals that are not one per vertex (the primitive is shaded flat), and rebuilds
+//     each zero or non-finite normal of a used vertex as the area-weighted mean of the faces
+//     around it (what a loader would generate), normalising the rest.
+// The kept triangles keep their order, so a mesh that differs from a clean one only by the
+// dropped triangles and unused vertices gives Embree the same primitives and the same BVH.
+void clean_mesh(std::vector<V3f>* positions, std::vector<V3f>* normals,
+                std::vector<uint32_t>* indices, CleaningCounts* counts) {
+  const size_t vertices = positions->size();
+  std::vector<uint32_t> kept;
+  kept.reserve(indices->size());
+  std::vector<char> used(vertices, 0);
+  for (size_t i = 0; i + 2 < indices->size(); i += 3) {
+    const uint32_t a = (*indices)[i], b = (*indices)[i + 1], c = (*indices)[i + 2];
+    if (a >= vertices || b >= vertices || c >= vertices || a == b || b == c || a == c) {
+      ++counts->degenerate;
+      continue;
+    }
+    const V3f& pa = (*positions)[a];
+    const V3f& pb = (*positions)[b];
+    const V3f& pc = (*positions)[c];
+    if (!finite(pa) || !finite(pb) || !finite(pc)) {
+      ++counts->nonfinite;
+      continue;
+    }
+    const V3d e1 = V3d(pb) - V3d(pa), e2 = V3d(pc) - V3d(pa), e3 = V3d(pc) - V3d(pb);
+    const double longest2 = std::max({e1.length2(), e2.length2(), e3.length2()});
+    // Finite float vertices keep every double here finite.
+    if (!(e1.cross(e2).length2() > 1e-24 * longest2 * longest2)) {
+      ++counts->degenerate;
+      continue;
+    }
+    kept.insert(kept.end(), {a, b, c});
+    used[a] = used[b] = used[c] = 1;
+  }
+  // A trailing partial triangle is not a triangle.
+  if (indices->size() % 3 != 0) ++counts->degenerate;
+  *indices = std::move(kept);
+  for (size_t v = 0; v < vertices; ++v)
+    if (!used[v] && !finite((*positions)[v])) (*positions)[v] = V3f(0.0f);
+
+  if (normals->empty()) return;
+  if (normals->size() != vertices) {
+    normals->clear();
+    return;
+  }
+  std::vector<char> broken(vertices, 0);
+  bool any_broken = false;
+  for (size_t v = 0; v < vertices; ++v) {
+    V3f& n = (*normals)[v];
+    const double len2 = V3d(n).length2();
+    if (finite(n) && len2 > 1e-30) {
+      n = V3f(V3d(n) / std::sqrt(len2));
+    } else {
+      n = V3f(0.0f);
+      broken[v] = used[v];
+      any_broken = any_broken || used[v];
+    }
+  }
+  if (!any_broken) return;
+  std::vector<V3d> sum(vertices, V3d(0.0));
+  for (size_t i = 0; i < indices->size(); i += 3) {
+    const uint32_t t[3] = {(*indices)[i], (*indices)[i + 1], (*indices)[i + 2]};
+    // Counter-clockwise: the cross product points out of the front face, its length is
+    // twice the area, which weights the mean.
+    const V3d face = (V3d((*positions)[t[1]]) - V3d((*positions)[t[0]]))
+                         .cross(V3d((*positions)[t[2]]) - V3d((*positions)[t[0]]));
+    for (uint32_t v : t)
+      if (broken[v]) sum[v] += face;
+  }
+  for (size_t v = 0; v < vertices; ++v) {
+    if (!broken[v]) continue;
+    ++counts->normals_repaired;
+    const double len = sum[v].length();
+    // Faces that cancel (a vertex of two back-to-back faces) leave it zero, and the hit
+    // falls back to the geometric normal there.
+    if (len > 0.0) (*normals)[v] = V3f(sum[v] / len);
+  }
+}
+
+}  // namespace
+
+// The primitive as is, in its own space, cleaned and padded for Embree's read-ahead.
+std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Primitive& p,
+                                                                        size_t* dropped_degenerate,
+                                                                        size_t* dropped_nonfinite) {
   auto mesh = std::make_unique<EmbreeScene::TriangleMesh>();
   mesh->positions.reserve(p.positions.size() + 1);
   mesh->positions = p.positions;
-  mesh->positions.push_back(V3f(0.0f));
   mesh->normals = p.normals;
   mesh->uv = p.uv0;
   mesh->indices = p.indices;
   mesh->material = p.material;
+  CleaningCounts counts;
+  clean_mesh(&mesh->positions, &mesh->normals, &mesh->indices, &counts);
+  *dropped_degenerate += counts.degenerate;
+  *dropped_nonfinite += counts.nonfinite;
+  statistics_.normals_repaired += counts.normals_repaired;
+  mesh->positions.push_back(V3f(0.0f));
+  if (mesh->uv.size() != p.positions.size()) mesh->uv.clear();
   return mesh;
 }
 
@@ -71,9 +181,17 @@ M44f to_float(const M44d& m) {
   return f;
 }
 
-// The primitive moved into world space. A transform that mirrors (negative determinant)
-// would turn counter-clockwise triangles clockwise, so their winding is flipped to keep the
-// authored front face in front, as glTF requires.
+bool finite(const M44d& m) {
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (!std::isfinite(m[i][j])) return false;
+  return true;
+}
+
+// The primitive moved into world space (shifted by the world origin, which `to_world`
+// already includes). A transform that mirrors (negative determinant) would turn
+// counter-clockwise triangles clockwise, so their winding is flipped to keep the authored
+// front face in front, as glTF requires.
 void bake(const Primitive& p, const M44d& to_world, std::vector<V3f>* positions,
           std::vector<V3f>* normals, std::vector<uint32_t>* indices) {
   const M44d normal_matrix = to_world.inverse().transposed();
@@ -98,7 +216,8 @@ void bake(const Primitive& p, const M44d& to_world, std::vector<V3f>* positions,
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options) {
+EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options)
+    : world_origin_(options.world_origin) {
   std::string error;
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("cannot create the Embree device");
@@ -112,25 +231,50 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
     records_[geom_id] = r;
   };
 
+  // World to the shifted frame, composed into every transform in double before anything is
+  // rounded to float: v * (M * shift) keeps v's small offsets from a far-away node exactly
+  // where v * M - origin would first round them at the node's magnitude.
+  M44d shift;
+  shift.setTranslation(-world_origin_);
+
   // How many nodes place each mesh decides baking or instancing.
   std::vector<int> uses(scene.meshes.size(), 0);
   for (const MeshInstance& inst : scene.instances)
     if (inst.mesh >= 0 && inst.mesh < static_cast<int>(scene.meshes.size())) ++uses[inst.mesh];
-  std::vector<const Prototype*> prototype_of(scene.meshes.size(), nullptr);
+  struct PrototypeUse {
+    const Prototype* prototype = nullptr;
+    size_t triangles = 0, degenerate = 0, nonfinite = 0;  // per placement
+  };
+  std::vector<PrototypeUse> prototype_of(scene.meshes.size());
 
   for (const MeshInstance& inst : scene.instances) {
     if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
     const Mesh& mesh = scene.meshes[inst.mesh];
-    size_t triangles = 0;
-    for (const Primitive& p : mesh.primitives) triangles += p.indices.size() / 3;
-    statistics_.triangles += triangles;
+    // A node that is not finite, or flattens its mesh (determinant 0), places nothing that
+    // can be hit; it is skipped whole rather than handed to Embree.
+    const bool finite_node = finite(inst.object_to_world);
+    const double det = finite_node ? inst.object_to_world.determinant() : 0.0;
+    if (!finite_node || !std::isfinite(det) || det == 0.0) {
+      size_t triangles = 0;
+      for (const Primitive& p : mesh.primitives) triangles += p.indices.size() / 3;
+      (finite_node ? statistics_.degenerate_triangles : statistics_.nonfinite_triangles) +=
+          triangles;
+      continue;
+    }
+    const M44d to_shifted = inst.object_to_world * shift;
     if (uses[inst.mesh] == 1) {
       for (const Primitive& p : mesh.primitives) {
-        if (p.indices.empty()) continue;
         auto baked = std::make_unique<TriangleMesh>();
-        bake(p, inst.object_to_world, &baked->positions, &baked->normals, &baked->indices);
+        bake(p, to_shifted, &baked->positions, &baked->normals, &baked->indices);
+        CleaningCounts counts;
+        clean_mesh(&baked->positions, &baked->normals, &baked->indices, &counts);
+        statistics_.degenerate_triangles += counts.degenerate;
+        statistics_.nonfinite_triangles += counts.nonfinite;
+        statistics_.normals_repaired += counts.normals_repaired;
+        if (baked->indices.empty()) continue;
+        statistics_.triangles += baked->indices.size() / 3;
         baked->positions.push_back(V3f(0.0f));  // Embree's read-ahead padding
-        baked->uv = p.uv0;
+        if (p.uv0.size() == p.positions.size()) baked->uv = p.uv0;
         baked->material = p.material;
         record(attach_triangles(scene_, *baked), {GeometryRecord::Kind::triangles, baked.get(), 0});
         baked_.push_back(std::move(baked));
@@ -138,24 +282,29 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
       }
       continue;
     }
-    if (!prototype_of[inst.mesh]) {
+    PrototypeUse& use = prototype_of[inst.mesh];
+    if (!use.prototype) {
       auto proto = std::make_unique<Prototype>();
       proto->scene = rtcNewScene(device_);
       rtcSetSceneFlags(proto->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
       for (const Primitive& p : mesh.primitives) {
-        if (p.indices.empty()) continue;
-        auto geometry = copy_for_embree(p);
+        auto geometry = copy_for_embree(p, &use.degenerate, &use.nonfinite);
+        if (geometry->indices.empty()) continue;
+        use.triangles += geometry->indices.size() / 3;
         const unsigned id = attach_triangles(proto->scene, *geometry);
         if (proto->geometries.size() <= id) proto->geometries.resize(id + 1);
         proto->geometries[id] = std::move(geometry);
       }
       rtcCommitScene(proto->scene);
-      prototype_of[inst.mesh] = proto.get();
+      use.prototype = proto.get();
       prototypes_.push_back(std::move(proto));
     }
+    statistics_.triangles += use.triangles;
+    statistics_.degenerate_triangles += use.degenerate;
+    statistics_.nonfinite_triangles += use.nonfinite;
     Instance instance;
-    instance.prototype = prototype_of[inst.mesh];
-    instance.object_to_world = to_float(inst.object_to_world);
+    instance.prototype = use.prototype;
+    instance.object_to_world = to_float(to_shifted);
     instance.normal_to_world = to_float(inst.object_to_world.inverse().transposed());
     RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(g, instance.prototype->scene);
@@ -172,6 +321,7 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
   }
 
   spheres_ = scene.spheres;
+  for (Sphere& s : spheres_) s.centre -= world_origin_;
   statistics_.spheres = spheres_.size();
   if (!spheres_.empty()) {
     switch (options.spheres.mode) {
@@ -186,8 +336,10 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
       case SphereMode::mesh:
         for (size_t i = 0; i < spheres_.size(); ++i) {
           const Primitive p = tessellate_sphere(spheres_[i], options.spheres.mesh_level);
-          auto mesh = copy_for_embree(p);
-          statistics_.triangles += p.indices.size() / 3;
+          auto mesh = copy_for_embree(p, &statistics_.degenerate_triangles,
+                                      &statistics_.nonfinite_triangles);
+          if (mesh->indices.empty()) continue;
+          statistics_.triangles += mesh->indices.size() / 3;
           record(attach_triangles(scene_, *mesh),
                  {GeometryRecord::Kind::sphere_mesh, mesh.get(), i});
           baked_.push_back(std::move(mesh));
@@ -232,9 +384,25 @@ void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& r
   hit->position =
       w * mesh.positions[tri[0]] + u * mesh.positions[tri[1]] + v * mesh.positions[tri[2]];
   hit->geometric_normal = normalize(V3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+  hit->terminator_offset = V3f(0.0f);
   if (!mesh.normals.empty()) {
     hit->shading_normal =
         w * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
+    // Hanika's shadow-terminator fix (Ray Tracing Gems II ch. 4): a flat triangle under
+    // smooth normals lies inside the surface those normals describe, so near the terminator
+    // a shadow ray from it runs into the neighbouring triangles and the smooth shading ends
+    // in a blocky shadow. Projecting the point onto each vertex's tangent plane and taking
+    // the barycentric mean of the three projections lifts it onto a smooth (quadratic)
+    // patch; only planes the point lies below push (min with 0), so concave parts stay put.
+    const float b[3] = {w, u, v};
+    const V3f front(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    V3f offset(0.0f);
+    for (int k = 0; k < 3; ++k) {
+      const V3f n = face_forward(mesh.normals[tri[k]], front);
+      const float below = std::fmin(0.0f, dot(hit->position - mesh.positions[tri[k]], n));
+      offset -= (b[k] * below) * n;
+    }
+    if (finite(offset)) hit->terminator_offset = offset;
   } else {
     hit->shading_normal = hit->geometric_normal;
   }
@@ -242,7 +410,20 @@ void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& r
   hit->material = mesh.material;
 }
 
+namespace {
+
+// Embree's behaviour on NaN or infinite rays is undefined (NaN fails every comparison in
+// traversal, so a ray may report a hit with garbage t or walk the whole tree); such a ray
+// is answered here instead. tfar may be +infinity, the usual "unbounded".
+bool ray_is_valid(const Ray& ray) {
+  return finite(ray.origin) && finite(ray.direction) && std::isfinite(ray.tnear) &&
+         !std::isnan(ray.tfar);
+}
+
+}  // namespace
+
 bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
+  if (!ray_is_valid(ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -272,6 +453,8 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
     V3f p;
     inst.object_to_world.multVecMatrix(hit->position, p);
     hit->position = p;
+    inst.object_to_world.multDirMatrix(hit->terminator_offset, p);
+    hit->terminator_offset = p;
     V3f n;
     inst.normal_to_world.multDirMatrix(hit->geometric_normal, n);
     hit->geometric_normal = normalize(n);
@@ -290,6 +473,7 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
       hit->position = centre + static_cast<float>(s.radius) * radial;
       hit->geometric_normal = radial;
       hit->shading_normal = radial;
+      hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
       hit->material = s.material;
     } else {
       fill_triangle_hit(*r.mesh, rh, hit);
@@ -310,6 +494,8 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const {
+  // Blocked: a shadow ray that cannot be traced must not light the point it came from.
+  if (!ray_is_valid(ray)) return true;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay r;

@@ -2,6 +2,18 @@
 // mesh is placed once, instanced when several nodes share it) and spheres in the mode the
 // user chose. Answers the two questions integrators ask: the nearest hit, and whether a
 // segment is blocked.
+//
+// The renderer does not trust its input (docs/stress-shading.md):
+//   - triangles that cannot be hit meaningfully (an index out of range, a repeated index,
+//     zero area, a non-finite vertex) are dropped at build time and counted;
+//   - vertex normals that are zero or not finite are rebuilt from the faces around them;
+//   - rays with a non-finite origin, direction or range never reach Embree.
+//
+// World origin: Embree works in float, whose spacing at 1e6 m is 6 cm. Everything is moved
+// by -GeometryOptions::world_origin in double before it is rounded to float, so with the
+// origin at the camera every ray, hit and light lives near 0 whatever the scene's absolute
+// coordinates. Hit positions and bounds are in this shifted frame; the camera and the lights
+// must be shifted by the same point (Camera's world_origin argument, RenderScene).
 #pragma once
 
 #include <memory>
@@ -21,6 +33,9 @@ struct GeometryOptions {
   SphereOptions spheres;
   // Watertight triangle test and robust traversal (RTC_SCENE_FLAG_ROBUST), at some speed.
   bool robust = false;
+  // The world-space point that becomes (0, 0, 0) for Embree and the integrators; (0, 0, 0)
+  // keeps world coordinates. The camera's position is the best choice.
+  Imath::V3d world_origin{0.0, 0.0, 0.0};
 };
 
 struct SurfaceHit {
@@ -28,6 +43,10 @@ struct SurfaceHit {
   Imath::V3f position;          // on the surface, rebuilt from the primitive, not o + t d
   Imath::V3f geometric_normal;  // unit, world space, out of the front (authored) side
   Imath::V3f shading_normal;    // unit, on the same side as geometric_normal
+  // Hanika's shadow-terminator fix (Ray Tracing Gems II ch. 4): position + terminator_offset
+  // is the hit point moved onto the smooth surface the vertex normals describe, for rays
+  // leaving on the front (geometric_normal's) side. Zero for flat triangles and spheres.
+  Imath::V3f terminator_offset{0.0f, 0.0f, 0.0f};
   Imath::V2f uv{0.0f, 0.0f};
   int material = -1;       // index into the scene's materials, -1 = default
   bool back_face = false;  // the ray arrived from behind (e.g. from inside a sphere)
@@ -36,8 +55,13 @@ struct SurfaceHit {
 struct GeometryStatistics {
   size_t meshes_baked = 0;
   size_t mesh_instances = 0;
-  size_t triangles = 0;  // as placed in the world, counting each instance
+  size_t triangles = 0;  // handed to Embree, as placed in the world, counting each instance
   size_t spheres = 0;
+  // Dropped at build time (counting each instance): an index out of range, a repeated
+  // index or zero area; a non-finite vertex or node transform.
+  size_t degenerate_triangles = 0;
+  size_t nonfinite_triangles = 0;
+  size_t normals_repaired = 0;  // zero or non-finite vertex normals rebuilt from the faces
 };
 
 class EmbreeScene {
@@ -48,11 +72,15 @@ class EmbreeScene {
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
+  // A ray with a non-finite origin, direction, tnear or a NaN tfar hits nothing...
   bool intersect(const Ray& ray, SurfaceHit* hit) const;
-  // True if anything lies on the ray within (ray.tnear, ray.tfar).
+  // True if anything lies on the ray within (ray.tnear, ray.tfar). ...and is occluded, so
+  // that a broken shadow ray can darken a pixel but never light it.
   bool occluded(const Ray& ray) const;
 
+  // In the shifted frame (world minus world_origin).
   Imath::Box3f bounds() const { return bounds_; }
+  const Imath::V3d& world_origin() const { return world_origin_; }
   const GeometryStatistics& statistics() const { return statistics_; }
 
  private:
@@ -61,7 +89,8 @@ class EmbreeScene {
   struct Instance;
   struct GeometryRecord;
 
-  static std::unique_ptr<TriangleMesh> copy_for_embree(const Primitive& p);
+  std::unique_ptr<TriangleMesh> copy_for_embree(const Primitive& p, size_t* dropped_degenerate,
+                                                size_t* dropped_nonfinite);
   unsigned attach_triangles(RTCScene scene, const TriangleMesh& mesh);
   void fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& rh, SurfaceHit* hit) const;
 
@@ -74,6 +103,7 @@ class EmbreeScene {
   std::vector<Sphere> spheres_;
   unsigned analytic_spheres_geom_ = RTC_INVALID_GEOMETRY_ID;
   Imath::Box3f bounds_;
+  Imath::V3d world_origin_{0.0, 0.0, 0.0};
   GeometryStatistics statistics_;
 };
 

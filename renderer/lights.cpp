@@ -1,6 +1,7 @@
 #include "renderer/lights.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 #include "renderer/colour.h"
@@ -22,6 +23,9 @@ LightSource make_light_source(const Light& light, const ColourPipeline& colour) 
 }
 
 bool light_arrival(const LightSource& light, const V3f& point, LightArrival* out) {
+  // A light that delivers nothing costs no shadow ray.
+  if (light.intensity.x == 0.0f && light.intensity.y == 0.0f && light.intensity.z == 0.0f)
+    return false;
   if (light.type == LightType::directional) {
     out->to_light = -light.direction;
     out->distance = std::numeric_limits<float>::infinity();
@@ -30,7 +34,10 @@ bool light_arrival(const LightSource& light, const V3f& point, LightArrival* out
   }
   const V3f offset = light.position - point;
   const float d2 = offset.length2();
-  if (!(d2 > 0.0f)) return false;
+  // A point at the light itself, or so close (d < 1.1e-19 m) that d^2 is subnormal and 1/d^2
+  // overflows float, receives nothing: the inverse-square law has no finite value there, and
+  // infinity times a zero intensity or cosine would be NaN.
+  if (!(d2 >= FLT_MIN) || !std::isfinite(d2)) return false;
   const float d = std::sqrt(d2);
   out->to_light = offset / d;
   out->distance = d;
@@ -49,6 +56,9 @@ bool light_arrival(const LightSource& light, const V3f& point, LightArrival* out
   }
   if (attenuation <= 0.0f) return false;
   out->irradiance = light.intensity * attenuation;
+  // An irradiance beyond float's range (a bright light within a hair's breadth) cannot be
+  // shaded finitely; the light is left out rather than poisoning the pixel.
+  if (!std::isfinite(out->irradiance.x + out->irradiance.y + out->irradiance.z)) return false;
   return true;
 }
 

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <Imath/ImathVec.h>
 
@@ -37,22 +38,45 @@ inline V3f face_forward(const V3f& n, const V3f& reference) {
   return dot(n, reference) < 0.0f ? -n : n;
 }
 
+// The spacing of floats just above |x|: one ulp of x.
+inline float ulp_of(float x) {
+  const float a = std::fabs(x);
+  return std::bit_cast<float>(std::bit_cast<int32_t>(a) + 1) - a;
+}
+
 // Moves a hit point off its surface so that a ray leaving along `n`'s side cannot hit the
-// same surface again. The offset is a fixed number of ulps of each coordinate rather than a
-// fixed distance, so it scales with the magnitude of the position (Waechter and Binder,
-// "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6). Near
-// the origin, where ulps become tiny, a small absolute offset takes over. `n` must point to
-// the side the new ray leaves on.
+// same surface again. `n` must point to the side the new ray leaves on.
+//
+// A rebuilt hit point is trusted to a bounded number of ulps of each of its coordinates
+// (Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray
+// Tracing Gems ch. 6, whose constants are used here: 256 ulps, and 2^-16 absolute for
+// coordinates within 1/32 of the origin, where ulps become too small to cover the error of
+// the vertices the point was built from). How far off the surface that can put the point is
+// the sum over coordinates of |n_i| times coordinate i's error, so the point moves along n
+// by that distance (the form of pbrt-v4's OffsetRayOrigin), and each moved coordinate is
+// then pushed one more float outward so rounding the sum cannot give any of it back.
+//
+// Moving each coordinate by 256 of its own ulps times n_i, as Waechter and Binder do, is
+// not enough when the coordinates differ in magnitude: a coordinate with |n_i| < 1/256
+// gets no offset at all, yet its rounding error, times |n_i|, can be far larger than what
+// the small coordinates' offsets add up to (a triangle 8e10 long in z with its normal
+// within 2e-4 of +y, hit at y = 0.03: tests/stress/02_reintersect_test.cpp).
 inline V3f offset_ray_origin(const V3f& p, const V3f& n) {
   constexpr float kOriginBand = 1.0f / 32.0f;
   constexpr float kFloatScale = 1.0f / 65536.0f;
   constexpr float kIntScale = 256.0f;
+  float distance = 0.0f;
+  for (int i = 0; i < 3; ++i) {
+    const float error = std::fabs(p[i]) < kOriginBand ? kFloatScale : kIntScale * ulp_of(p[i]);
+    distance += std::fabs(n[i]) * error;
+  }
   V3f out;
   for (int i = 0; i < 3; ++i) {
-    const auto ulps = static_cast<int32_t>(kIntScale * n[i]);
-    const auto bits = std::bit_cast<int32_t>(p[i]);
-    const float moved = std::bit_cast<float>(bits + (p[i] < 0.0f ? -ulps : ulps));
-    out[i] = std::fabs(p[i]) < kOriginBand ? p[i] + kFloatScale * n[i] : moved;
+    const float step = distance * n[i];
+    const float moved = p[i] + step;
+    out[i] = step > 0.0f   ? std::nextafter(moved, std::numeric_limits<float>::infinity())
+             : step < 0.0f ? std::nextafter(moved, -std::numeric_limits<float>::infinity())
+                           : moved;
   }
   return out;
 }

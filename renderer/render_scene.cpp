@@ -14,7 +14,11 @@ RenderScene::RenderScene(const SceneDescription& scene, const GeometryOptions& o
     materials_.push_back(make_material(m, textures_, colour));
   default_material_ = make_material(MaterialDescription{}, textures_, colour);
   lights_.reserve(scene.lights.size());
-  for (const Light& light : scene.lights) lights_.push_back(make_light_source(light, colour));
+  for (Light light : scene.lights) {
+    // Into the geometry's shifted frame, in double (embree_scene.h).
+    light.position -= geometry_.world_origin();
+    lights_.push_back(make_light_source(light, colour));
+  }
 }
 
 }  // namespace prism

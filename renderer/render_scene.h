@@ -1,9 +1,13 @@
 // Everything an integrator reads: the geometry's BVH, the materials with their textures, and
 // the lights, all in the working colour space. Built once per scene.
+//
+// Positions (geometry, hits, lights) are in the frame shifted by
+// GeometryOptions::world_origin; camera() makes cameras whose rays are too.
 #pragma once
 
 #include <vector>
 
+#include "renderer/camera.h"
 #include "renderer/embree_scene.h"
 #include "renderer/lights.h"
 #include "renderer/material.h"
@@ -19,6 +23,10 @@ class RenderScene {
               const ColourPipeline& colour);
 
   const EmbreeScene& geometry() const { return geometry_; }
+  // A camera whose rays live in the same shifted frame as the geometry and lights.
+  Camera camera(const CameraDescription& description, int image_width, int image_height) const {
+    return Camera(description, image_width, image_height, geometry_.world_origin());
+  }
   const std::vector<LightSource>& lights() const { return lights_; }
   // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
   const Material& material(int index) const {

@@ -251,6 +251,30 @@ def normalised(v):
     return tuple(c / n for c in v)
 
 
+def whitted_scene():
+    """Whitted's test scene, kept simple for cross-renderer checks (bench/peers/): solid
+    colours, analytic spheres (mirror, glass, plastic, Lambertian), a Lambertian floor and two
+    point lights. bench/peers/whitted.pov is the same scene for POV-Ray."""
+    b = Builder()
+    floor = b.material("floor", (0.8, 0.8, 0.8), 0.0, 1.0, specular=0.0)
+    matte = b.material("white matte", (0.8, 0.8, 0.8), 0.0, 1.0, specular=0.0)
+    mirror = b.material("mirror", (0.9, 0.9, 0.9), 1.0, 0.0)
+    glass = b.material("glass", (1.0, 1.0, 1.0), 0.0, 0.0, transmission=1.0, ior=1.5)
+    red = b.material("red plastic", (0.8, 0.1, 0.08), 0.0, 0.35)
+    b.quad("floor", [-10, 0, 8], [20, 0, 0], [0, 0, -24], floor)
+    b.sphere("mirror sphere", (-1.3, 1.0, -0.8), 1.0, mirror, level=4)
+    b.sphere("glass sphere", (1.0, 0.7, 0.8), 0.7, glass, level=4)
+    b.sphere("red sphere", (1.9, 0.5, -1.5), 0.5, red, level=4)
+    b.sphere("matte sphere", (-0.4, 0.4, 1.9), 0.4, matte, level=4)
+    b.light("key", {"type": "point", "color": [1.0, 1.0, 1.0], "intensity": 40.0},
+            translation=[3.0, 5.0, 4.0])
+    b.light("fill", {"type": "point", "color": [1.0, 0.9, 0.8], "intensity": 12.0},
+            translation=[-4.0, 3.0, 2.0])
+    b.camera("main", (0.0, 1.6, 6.0), (0.0, 0.8, 0.0), 0.7, 4.0 / 3.0)
+    b.write("whitted.gltf")
+
+
 if __name__ == "__main__":
     spheres_scene()
     furnace_scene()
+    whitted_scene()

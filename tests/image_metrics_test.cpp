@@ -251,8 +251,10 @@ TEST(RenderPasses, FinalImageIsBitIdenticalToOnePass) {
     const testing::Rendered plain = testing::render_scene(scene, *integrator, settings);
 
     const ColourPipeline colour(WorkingSpace::linear_rec709);
-    const RenderScene render_scene(scene, {}, colour);
-    const Camera camera(scene.cameras[0], settings.width, settings.height);
+    GeometryOptions options;
+    options.world_origin = camera_position(scene.cameras[0]);
+    const RenderScene render_scene(scene, options, colour);
+    const Camera camera = render_scene.camera(scene.cameras[0], settings.width, settings.height);
     std::vector<int> samples_seen;
     std::vector<float> last_seen;
     int first_pass_fractional_alpha = 0, first_pass_covered = 0;

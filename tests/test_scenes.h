@@ -61,12 +61,16 @@ struct Rendered {
   RenderResult result;
 };
 
+// The scene stays in world coordinates unless options.world_origin says otherwise, so that
+// analytic tests see exactly the coordinates they wrote (`prism render` rebases on the
+// camera; tests/stress/12_huge_coordinates_test.cpp checks that path).
 inline Rendered render_scene(const SceneDescription& scene, const Integrator& integrator,
                              const RenderSettings& settings, const GeometryOptions& options = {},
                              int camera = 0) {
   const ColourPipeline colour(WorkingSpace::linear_rec709);
+  const CameraDescription& description = scene.cameras.at(static_cast<size_t>(camera));
   const RenderScene render_scene(scene, options, colour);
-  const Camera cam(scene.cameras.at(static_cast<size_t>(camera)), settings.width, settings.height);
+  const Camera cam = render_scene.camera(description, settings.width, settings.height);
   Rendered r;
   r.result = render(integrator, RenderContext{render_scene, cam, settings}, &r.image);
   return r;

@@ -1,0 +1,151 @@
+"""Renders a glTF scene with Blender Cycles, direct light only, for bench/peers/.
+
+    blender -b --factory-startup --python-exit-code 1 --python bench/peers/cycles_render.py \
+        -- SCENE.glb|gltf OUT.exr --res WxH --spp N [--threads 2] [--seed 0]
+
+What it sets up, so that Cycles sees what Prism's `shadow` integrator sees:
+- an empty scene (the factory startup cube, camera and lamp are removed) and a black world;
+- glTF import with convert_lighting_mode='COMPAT': point/spot lights get P = 4 pi I watts
+  (I in candela read as W/sr; Cycles' point lamp of P watts has intensity P / (4 pi) W/sr),
+  suns get I W/m^2. The importer's default, 'SPEC', also divides by 683 lm/W, which makes
+  the lights 683 times weaker than Prism's, which reads candela as W/sr.
+- punctual lights made point-like: the importer leaves Blender's default radius
+  (shadow_soft_size 0.25 m), which would make them sphere lights with soft shadows;
+- without lights, the same default directional key light Prism adds (pi W/m^2 along the
+  camera's forward - 0.6 up + 0.4 right, renderer/scene_defaults.cpp);
+- the glTF scene's first camera, the given resolution, a 1-pixel box filter (Prism's
+  samples are uniform in the pixel square), fixed samples (no adaptive sampling, no
+  denoising), max_bounces = 0 (camera ray + light samples only: direct light);
+- CPU, a fixed thread count, and a scene-linear 32-bit float EXR (view transform Standard,
+  which EXR output ignores anyway).
+Prints "PEER_RENDER_TIME <s>" (bpy.ops.render.render: sync, BVH build and sampling) and
+"PEER_IMPORT_TIME <s>".
+"""
+import argparse
+import math
+import sys
+import time
+
+import numpy
+
+numpy.bool = bool  # Blender 3.4's glTF importer uses numpy.bool, gone in NumPy 1.24
+
+import bpy  # noqa: E402
+from mathutils import Vector  # noqa: E402
+
+
+def make_lambertian():
+    for material in bpy.data.materials:
+        if not material.use_nodes:
+            continue
+        nodes = material.node_tree.nodes
+        principled = next((n for n in nodes if n.type == "BSDF_PRINCIPLED"), None)
+        output = next((n for n in nodes if n.type == "OUTPUT_MATERIAL"), None)
+        if principled is None or output is None:
+            continue
+        diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+        diffuse.inputs["Roughness"].default_value = 0.0  # Oren-Nayar at 0 is Lambert
+        base = principled.inputs["Base Color"]
+        if base.is_linked:
+            material.node_tree.links.new(base.links[0].from_socket, diffuse.inputs["Color"])
+        else:
+            diffuse.inputs["Color"].default_value = base.default_value
+        material.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser(prog="cycles_render.py")
+    parser.add_argument("scene")
+    parser.add_argument("output")
+    parser.add_argument("--res", required=True)
+    parser.add_argument("--spp", type=int, required=True)
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--lambert", action="store_true",
+                        help="replace every material by a Diffuse BSDF (Lambert) of its base "
+                             "colour: isolates the light units from the Principled BSDF")
+    args = parser.parse_args(argv)
+    width, height = (int(v) for v in args.res.lower().split("x"))
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    start = time.perf_counter()
+    bpy.ops.import_scene.gltf(filepath=args.scene, convert_lighting_mode="COMPAT")
+    print("PEER_IMPORT_TIME %.4f" % (time.perf_counter() - start))
+
+    cameras = [o for o in scene.objects if o.type == "CAMERA"]
+    if not cameras:
+        raise SystemExit("the scene has no camera")
+    # The importer names objects after glTF nodes; take the first camera in name order as a
+    # stand-in for "the first glTF camera" (the scenes used here have one).
+    scene.camera = sorted(cameras, key=lambda o: o.name)[0]
+    bpy.context.view_layer.update()
+
+    lights = [o for o in scene.objects if o.type == "LIGHT"]
+    for light in lights:
+        if light.data.type in ("POINT", "SPOT"):
+            light.data.shadow_soft_size = 0.0
+    if not lights:
+        m = scene.camera.matrix_world
+        right = m.col[0].xyz.normalized()
+        up = m.col[1].xyz.normalized()
+        forward = -m.col[2].xyz.normalized()
+        direction = (forward - 0.6 * up + 0.4 * right).normalized()
+        sun = bpy.data.lights.new("default key light", type="SUN")
+        sun.energy = math.pi
+        sun.angle = 0.0
+        obj = bpy.data.objects.new("default key light", sun)
+        scene.collection.objects.link(obj)
+        obj.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
+        print("no lights: added a pi W/m^2 sun along", tuple(round(c, 4) for c in direction))
+
+    if args.lambert:
+        make_lambertian()
+
+    world = bpy.data.worlds.new("black")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    scene.world = world
+
+    scene.render.engine = "CYCLES"
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = args.spp
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = args.seed
+    cycles.max_bounces = 0
+    cycles.diffuse_bounces = cycles.glossy_bounces = cycles.transmission_bounces = 0
+    cycles.volume_bounces = cycles.transparent_max_bounces = 0
+    cycles.caustics_reflective = cycles.caustics_refractive = False
+    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
+    cycles.filter_type = "BOX"
+    cycles.filter_width = 1.0
+    cycles.use_auto_tile = False
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = args.threads
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.render.use_compositing = False
+    scene.render.use_sequencer = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    settings = scene.render.image_settings
+    settings.file_format = "OPEN_EXR"
+    settings.color_depth = "32"
+    settings.color_mode = "RGBA"
+    settings.exr_codec = "ZIP"
+    scene.render.filepath = args.output
+    scene.render.use_file_extension = False
+
+    start = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    print("PEER_RENDER_TIME %.4f" % (time.perf_counter() - start))
+
+
+main()
