@@ -42,7 +42,7 @@ Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
       const bool front = dot(n, hit.geometric_normal) > 0.0f;
       const V3f from = front ? hit.position + hit.terminator_offset : hit.position;
       Ray shadow_ray;
-      shadow_ray.origin = offset_ray_origin(from, n);
+      shadow_ray.origin = offset_ray_origin(from, n, hit.surface_error);
       shadow_ray.direction = arrival.to_light;
       shadow_ray.tfar = arrival.distance;
       ++counters->shadow;

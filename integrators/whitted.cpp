@@ -67,7 +67,7 @@ class WhittedIntegrator final : public Integrator {
       V3f refracted;
       if (fresnel < 1.0f && refract(ray.direction, n, eta, &refracted)) {
         Ray r;
-        r.origin = offset_ray_origin(hit.position, -outside);
+        r.origin = offset_ray_origin(hit.position, -outside, hit.surface_error);
         r.direction = refracted;
         ++counters->refraction;
         const V3f tint = hit.back_face ? V3f(1.0f) : surface.transmission_tint;
@@ -77,7 +77,7 @@ class WhittedIntegrator final : public Integrator {
     }
     if (reflect_weight.x > 0.0f || reflect_weight.y > 0.0f || reflect_weight.z > 0.0f) {
       Ray r;
-      r.origin = offset_ray_origin(hit.position, outside);
+      r.origin = offset_ray_origin(hit.position, outside, hit.surface_error);
       r.direction = normalize(reflect(ray.direction, n));
       ++counters->reflection;
       radiance += hadamard(reflect_weight, trace(context, r, depth + 1, counters));

@@ -383,8 +383,15 @@ void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& r
   const float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
   hit->position =
       w * mesh.positions[tri[0]] + u * mesh.positions[tri[1]] + v * mesh.positions[tri[2]];
-  hit->geometric_normal = normalize(V3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+  // The normal of the float vertices, formed in double: Embree's float Ng of a long sliver
+  // triangle can point well off the plane, or be zero, and a ray offset along a wrong normal
+  // re-hits the triangle it leaves (tests/stress/02_reintersect_test.cpp). The cross product
+  // of the counter-clockwise edges points out of the front face, as Embree's Ng does.
+  const V3d p0(mesh.positions[tri[0]]), p1(mesh.positions[tri[1]]), p2(mesh.positions[tri[2]]);
+  const V3d ng = (p1 - p0).cross(p2 - p0);
+  hit->geometric_normal = V3f(ng.normalized());
   hit->terminator_offset = V3f(0.0f);
+  hit->surface_error = 0.0f;
   if (!mesh.normals.empty()) {
     hit->shading_normal =
         w * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
@@ -395,7 +402,7 @@ void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& r
     // the barycentric mean of the three projections lifts it onto a smooth (quadratic)
     // patch; only planes the point lies below push (min with 0), so concave parts stay put.
     const float b[3] = {w, u, v};
-    const V3f front(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    const V3f& front = hit->geometric_normal;
     V3f offset(0.0f);
     for (int k = 0; k < 3; ++k) {
       const V3f n = face_forward(mesh.normals[tri[k]], front);
@@ -465,14 +472,25 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
     if (r.kind == GeometryRecord::Kind::analytic_spheres ||
         r.kind == GeometryRecord::Kind::point_spheres) {
       const Sphere& s = spheres_[rh.hit.primID];
-      const V3f centre(s.centre);
       // The intersector's Ng is hit point - centre, computed more precisely than
       // o + t d - centre could be here; the hit point is projected back onto the sphere
-      // along it, so its error stays relative to the radius instead of growing with t.
-      const V3f radial = normalize(V3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
-      hit->position = centre + static_cast<float>(s.radius) * radial;
-      hit->geometric_normal = radial;
-      hit->shading_normal = radial;
+      // along it, in double, so it is on the surface to the rounding of its coordinates
+      // instead of an error growing with t or with the radius.
+      const V3d radial = V3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+      hit->position = V3f(s.centre + s.radius * radial);
+      hit->geometric_normal = V3f(radial);
+      hit->shading_normal = hit->geometric_normal;
+      // Embree's own sphere test works in float on coordinates of size |centre| + r: near
+      // the surface it cannot tell a ray's start from the surface closer than a few ulps of
+      // that size, so a ray leaving by less could find the sphere again (a wall made of an
+      // r = 1e5 sphere self-shadows: tests/stress/04). Measured on that wall: 2^-26 of it is
+      // too little (every lit pixel self-shadowed), 2^-25 enough; 2^-22 keeps a margin of 8.
+      // The robust analytic test needs nothing beyond the hit point's rounding.
+      hit->surface_error =
+          r.kind == GeometryRecord::Kind::point_spheres
+              ? 0x1.0p-22f * static_cast<float>(std::fabs(s.centre.x) + std::fabs(s.centre.y) +
+                                                std::fabs(s.centre.z) + s.radius)
+              : 0.0f;
       hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
       hit->material = s.material;
     } else {

@@ -47,6 +47,9 @@ struct SurfaceHit {
   // is the hit point moved onto the smooth surface the vertex normals describe, for rays
   // leaving on the front (geometric_normal's) side. Zero for flat triangles and spheres.
   Imath::V3f terminator_offset{0.0f, 0.0f, 0.0f};
+  // How far the intersector itself may misplace the surface, beyond the hit point's
+  // rounding: a ray must leave by more than this (offset_ray_origin's third argument).
+  float surface_error = 0.0f;
   Imath::V2f uv{0.0f, 0.0f};
   int material = -1;       // index into the scene's materials, -1 = default
   bool back_face = false;  // the ray arrived from behind (e.g. from inside a sphere)

@@ -61,11 +61,14 @@ inline float ulp_of(float x) {
 // gets no offset at all, yet its rounding error, times |n_i|, can be far larger than what
 // the small coordinates' offsets add up to (a triangle 8e10 long in z with its normal
 // within 2e-4 of +y, hit at y = 0.03: tests/stress/02_reintersect_test.cpp).
-inline V3f offset_ray_origin(const V3f& p, const V3f& n) {
+//
+// `surface_error` adds how far the intersector may misplace the surface itself (see
+// SurfaceHit::surface_error), which no bound on the point's own rounding can know.
+inline V3f offset_ray_origin(const V3f& p, const V3f& n, float surface_error = 0.0f) {
   constexpr float kOriginBand = 1.0f / 32.0f;
   constexpr float kFloatScale = 1.0f / 65536.0f;
   constexpr float kIntScale = 256.0f;
-  float distance = 0.0f;
+  float distance = surface_error;
   for (int i = 0; i < 3; ++i) {
     const float error = std::fabs(p[i]) < kOriginBand ? kFloatScale : kIntScale * ulp_of(p[i]);
     distance += std::fabs(n[i]) * error;

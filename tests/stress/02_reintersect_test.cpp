@@ -57,7 +57,7 @@ struct Tally {
 // Spawns kRaysPerHit rays from hit into the hemisphere of `side` and counts any hit.
 void spawn_and_count(const EmbreeScene& geometry, const SurfaceHit& hit, const V3f& side,
                      Sampler* sampler, Tally* tally, const std::string& what) {
-  const V3f origin = offset_ray_origin(hit.position, side);
+  const V3f origin = offset_ray_origin(hit.position, side, hit.surface_error);
   for (int k = 0; k < kRaysPerHit; ++k) {
     V3f w = to_f(sampler->direction());
     if (dot(w, side) < 0.0f) w = -w;

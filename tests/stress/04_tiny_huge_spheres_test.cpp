@@ -165,8 +165,8 @@ TEST(StressTinyHugeSpheres, WallMadeOfAHugeSphere) {
     EXPECT_GT(lit, kSize * kSize / 2);
     // embree-points: Embree's own sphere test knows an r = 1e5 sphere only to ~r * 2^-24
     // (6e-3 here), while offset_ray_origin moves a hit near the origin by 256 ulps of its
-    // coordinates (~1e-5): every shadow ray starts inside Embree's idea of the wall. Needs
-    // a per-hit error bound from renderer/embree_scene.cpp (docs/stress-geometry.md, case 4).
+    // coordinates (~1e-5): without SurfaceHit::surface_error every shadow ray would start
+    // inside Embree's idea of the wall (docs/stress-geometry.md, case 4).
     EXPECT_EQ(differ, 0);
     EXPECT_GT(shaded, 200);
     EXPECT_EQ(dark, shaded);

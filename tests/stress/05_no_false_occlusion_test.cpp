@@ -69,8 +69,10 @@ struct Count {
 // The shadow ray from a to b, both offset toward each other.
 bool blocked(const EmbreeScene& g, const SurfaceHit& a, const SurfaceHit& b) {
   const V3f ab = b.position - a.position;
-  const V3f from = offset_ray_origin(a.position, face_forward(a.geometric_normal, ab));
-  const V3f to = offset_ray_origin(b.position, face_forward(b.geometric_normal, -ab));
+  const V3f from =
+      offset_ray_origin(a.position, face_forward(a.geometric_normal, ab), a.surface_error);
+  const V3f to =
+      offset_ray_origin(b.position, face_forward(b.geometric_normal, -ab), b.surface_error);
   Ray ray;
   ray.origin = from;
   ray.direction = normalize(to - from);

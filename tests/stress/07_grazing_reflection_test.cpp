@@ -51,7 +51,7 @@ Acne grazing(const EmbreeScene& g, SamplePoint&& sample, double approach, uint64
     if (!g.intersect(ray, &hit)) continue;
     const V3f side = face_forward(hit.geometric_normal, -ray.direction);
     Ray out;
-    out.origin = offset_ray_origin(hit.position, side);
+    out.origin = offset_ray_origin(hit.position, side, hit.surface_error);
     out.direction = normalize(reflect(ray.direction, side));
     ++acne.reflected;
     SurfaceHit again;
