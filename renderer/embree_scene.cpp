@@ -27,10 +27,6 @@ struct EmbreeScene::TriangleMesh {
 
 namespace {
 
-bool finite(const V3f& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 struct CleaningCounts {
   size_t degenerate = 0;
   size_t nonfinite = 0;
@@ -65,7 +61,7 @@ void clean_mesh(std::vector<V3f>* positions, std::vector<V3f>* normals,
     const V3f& pa = (*positions)[a];
     const V3f& pb = (*positions)[b];
     const V3f& pc = (*positions)[c];
-    if (!finite(pa) || !finite(pb) || !finite(pc)) {
+    if (!is_finite(pa) || !is_finite(pb) || !is_finite(pc)) {
       ++counts->nonfinite;
       continue;
     }
@@ -83,7 +79,7 @@ void clean_mesh(std::vector<V3f>* positions, std::vector<V3f>* normals,
   if (indices->size() % 3 != 0) ++counts->degenerate;
   *indices = std::move(kept);
   for (size_t v = 0; v < vertices; ++v)
-    if (!used[v] && !finite((*positions)[v])) (*positions)[v] = V3f(0.0f);
+    if (!used[v] && !is_finite((*positions)[v])) (*positions)[v] = V3f(0.0f);
 
   if (normals->empty()) return;
   if (normals->size() != vertices) {
@@ -95,7 +91,7 @@ void clean_mesh(std::vector<V3f>* positions, std::vector<V3f>* normals,
   for (size_t v = 0; v < vertices; ++v) {
     V3f& n = (*normals)[v];
     const double len2 = V3d(n).length2();
-    if (finite(n) && len2 > 1e-30) {
+    if (is_finite(n) && len2 > 1e-30) {
       n = V3f(V3d(n) / std::sqrt(len2));
     } else {
       n = V3f(0.0f);
@@ -181,13 +177,6 @@ M44f to_float(const M44d& m) {
   return f;
 }
 
-bool finite(const M44d& m) {
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      if (!std::isfinite(m[i][j])) return false;
-  return true;
-}
-
 // The primitive moved into world space (shifted by the world origin, which `to_world`
 // already includes). A transform that mirrors (negative determinant) would turn
 // counter-clockwise triangles clockwise, so their winding is flipped to keep the authored
@@ -252,7 +241,7 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
     const Mesh& mesh = scene.meshes[inst.mesh];
     // A node that is not finite, or flattens its mesh (determinant 0), places nothing that
     // can be hit; it is skipped whole rather than handed to Embree.
-    const bool finite_node = finite(inst.object_to_world);
+    const bool finite_node = is_finite(inst.object_to_world);
     const double det = finite_node ? inst.object_to_world.determinant() : 0.0;
     if (!finite_node || !std::isfinite(det) || det == 0.0) {
       size_t triangles = 0;
@@ -409,7 +398,7 @@ void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& r
       const float below = std::fmin(0.0f, dot(hit->position - mesh.positions[tri[k]], n));
       offset -= (b[k] * below) * n;
     }
-    if (finite(offset)) hit->terminator_offset = offset;
+    if (is_finite(offset)) hit->terminator_offset = offset;
   } else {
     hit->shading_normal = hit->geometric_normal;
   }
@@ -423,7 +412,7 @@ namespace {
 // traversal, so a ray may report a hit with garbage t or walk the whole tree); such a ray
 // is answered here instead. tfar may be +infinity, the usual "unbounded".
 bool ray_is_valid(const Ray& ray) {
-  return finite(ray.origin) && finite(ray.direction) && std::isfinite(ray.tnear) &&
+  return is_finite(ray.origin) && is_finite(ray.direction) && std::isfinite(ray.tnear) &&
          !std::isnan(ray.tfar);
 }
 

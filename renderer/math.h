@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 
+#include <Imath/ImathMatrix.h>
 #include <Imath/ImathVec.h>
 
 namespace prism {
@@ -14,6 +15,17 @@ using Imath::V3f;
 
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvPi = 0.31830988618379067154f;
+
+inline bool is_finite(const V3f& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+inline bool is_finite(const Imath::M44d& m) {
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (!std::isfinite(m[i][j])) return false;
+  return true;
+}
 
 inline float dot(const V3f& a, const V3f& b) {
   return a.dot(b);

@@ -15,6 +15,7 @@
 #include <tiny_gltf.h>
 #include <nlohmann/json.hpp>
 
+#include "renderer/math.h"
 #include "scene_io/gltf_accessors.h"
 #include "scene_io/gltf_error.h"
 #include "scene_io/gltf_json_check.h"
@@ -113,19 +114,6 @@ void check_external_files(const nlohmann::json& root, const std::filesystem::pat
       }
     }
   }
-}
-
-bool finite(const V3f& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-bool finite(const M44d& m) {
-  for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 4; ++j) {
-      if (!std::isfinite(m[i][j])) return false;
-    }
-  }
-  return true;
 }
 
 const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions, const char* name) {
@@ -237,11 +225,12 @@ class Converter {
     }
     if (const auto* ext = find_extension(m.extensions, "KHR_materials_specular")) {
       const std::string e = ext_element + "KHR_materials_specular";
-      d.specular = unit_factor(extension_number(*ext, "specularFactor", 1.0, e),
-                               e + ".specularFactor");
+      d.specular =
+          unit_factor(extension_number(*ext, "specularFactor", 1.0, e), e + ".specularFactor");
       if (ext->Has("specularColorFactor")) {
         const tinygltf::Value& v = ext->Get("specularColorFactor");
-        if (!v.IsArray() || v.ArrayLen() != 3) error(e + ".specularColorFactor", "expected 3 numbers");
+        if (!v.IsArray() || v.ArrayLen() != 3)
+          error(e + ".specularColorFactor", "expected 3 numbers");
         for (int i = 0; i < 3; ++i) {
           const tinygltf::Value& c = v.Get(i);
           // The extension allows colours above 1 (F0 is clamped to 1 after the product).
@@ -399,7 +388,7 @@ class Converter {
         view_accessor(model_, position->second, element + ".attributes.POSITION", file_);
     out.positions = read_vec3_float(positions, "POSITION", file_);
     for (std::size_t i = 0; i < out.positions.size(); ++i) {
-      if (!finite(out.positions[i])) {
+      if (!is_finite(out.positions[i])) {
         error(positions.element(), "vertex " + std::to_string(i) + " position is not finite");
       }
     }
@@ -424,7 +413,7 @@ class Converter {
       for (std::size_t i = 0; i < out.normals.size(); ++i) {
         V3f& n = out.normals[i];
         const float length = n.length();
-        if (!finite(n) || !std::isfinite(length) || length <= 0.0f) {
+        if (!is_finite(n) || !std::isfinite(length) || length <= 0.0f) {
           warn(normals->element(), "normal " + std::to_string(i) +
                                        " is zero or not finite; the primitive's normals are "
                                        "dropped and flat normals used");
@@ -611,7 +600,7 @@ class Converter {
       parent_of[index] = item.parent;
       const tinygltf::Node& node = model_.nodes[index];
       const M44d world = local_matrix(node, element) * item.parent_world;
-      if (!finite(world)) error(element, "world transform is not finite");
+      if (!is_finite(world)) error(element, "world transform is not finite");
       visit(node, index, world);
       for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) {
         stack.push_back({*it, item.node, world});
