@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/compare_command.h"
 #include "apps/diff_command.h"
 #include "apps/render_command.h"
 #include "renderer/version.h"
@@ -15,6 +16,8 @@ int main(int argc, char** argv) {
   CLI::App* render = prism::add_render_command(app, &render_options);
   prism::DiffOptions diff_options;
   CLI::App* diff = prism::add_diff_command(app, &diff_options);
+  prism::CompareOptions compare_options;
+  CLI::App* compare = prism::add_compare_command(app, &compare_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -26,12 +29,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // Usage errors exit with 2, as most command-line tools do.
     std::fprintf(stderr, "prism: error: %s (see prism %s--help)\n", e.what(),
-                 render->parsed() ? "render "
-                 : diff->parsed() ? "diff "
-                                  : "");
+                 render->parsed()    ? "render "
+                 : diff->parsed()    ? "diff "
+                 : compare->parsed() ? "compare "
+                                     : "");
     return 2;
   }
   if (render->parsed()) return prism::run_render(render_options);
   if (diff->parsed()) return prism::run_diff(diff_options);
+  if (compare->parsed()) return prism::run_compare(compare_options);
   return 2;
 }

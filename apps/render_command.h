@@ -5,23 +5,18 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/render_setup.h"
+
 namespace prism {
 
 struct RenderOptions {
-  std::string scene_path;
+  SceneOptions scene;
   std::string output_path;
   std::string preview_path;
   std::string integrator = "whitted";
   int spp = 1;
-  std::string resolution;  // "WxH", empty = 640x480 or the camera's aspect ratio
-  std::string camera;      // name or index, empty = the first
-  int threads = 0;
-  int max_depth = 5;
   std::string spheres = "analytic";
-  std::string working_space = "linear-rec709";
   std::string reference_path;  // measure the error against this image after every pass
-  float ambient = 0.0f;
-  float background = 0.0f;
   bool half = false;
   bool robust = false;
   bool quiet = false;

@@ -17,6 +17,12 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # real glTF files (good and broken) the tests load
   assimp-testmodels
+  # `prism compare` labels its PNG plot with OpenImageIO's render_text, which needs a TTF
+  # font; Debian ships none by default, and OIIO finds DejaVuSans here
+  fonts-dejavu-core
+  # tests/cli/compare.sh opens the HTML report in headless Chromium (large, but it is the
+  # only way to check the page as a browser draws it)
+  chromium
 )
 
 missing=()

@@ -1,12 +1,7 @@
 #!/usr/bin/env bash
 # Bad input to `prism render`: a clear one-line error, the right exit code, and no output
 # file created or clobbered. Usage: bad_input.sh PRISM SOURCE_DIR
-set -u
-PRISM=$1
-SRC=$2
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-failures=0
+source "$(dirname "$0")/lib/common.bash" "$@"
 
 # expect CODE PATTERN -- ARGS...: runs prism, checks the exit code, that stderr is exactly
 # one line, and that it matches PATTERN.

@@ -2,13 +2,7 @@
 # `prism diff` against OpenImageIO's idiff on the same images (RMSE, PSNR, maximum error and
 # where it is, to the six digits both print), its exit codes, and `prism render --reference`.
 # Usage: diff.sh PRISM SOURCE_DIR
-set -u
-PRISM=$1
-SRC=$2
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/lib/common.bash" "$@"
 
 # Six significant digits on both sides: equal within one unit of the last digit.
 agree() { awk -v a="$1" -v b="$2" 'BEGIN { d = a - b; if (d < 0) d = -d; m = (b < 0 ? -b : b);

@@ -2,13 +2,7 @@
 # What `prism render` writes: identical pixels whatever the thread count, the EXR's
 # chromaticities and metadata, the PNG preview, and a silent stderr when not on a terminal.
 # Usage: render_outputs.sh PRISM SOURCE_DIR
-set -u
-PRISM=$1
-SRC=$2
-TMP=$(mktemp -d)
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/lib/common.bash" "$@"
 SCENE="$SRC/scenes/spheres.gltf"
 
 for integrator in phong shadow whitted; do

@@ -1,0 +1,396 @@
+#include "apps/compare_command.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+#include <type_traits>
+
+#include "apps/compare_plot.h"
+#include "apps/compare_report.h"
+#include "apps/reference_cache.h"
+#include "integrators/integrators.h"
+#include "renderer/image_metrics.h"
+#include "renderer/image_output.h"
+#include "renderer/render.h"
+#include "renderer/render_scene.h"
+#include "renderer/version.h"
+
+namespace prism {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The process's peak resident set so far (Linux reports ru_maxrss in KiB). A high-water
+// mark: it never goes down, so a row shows the most the process has needed up to then.
+double peak_rss_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+// "mesh:2" -> "mesh2": a file name without characters some file systems refuse.
+std::string file_safe(const std::string& text) {
+  std::string out;
+  for (char c : text)
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') out += c;
+  return out;
+}
+
+template <typename T>
+void refuse_duplicates(const std::vector<T>& values, const std::string& option) {
+  std::set<T> seen;
+  for (const T& v : values)
+    if (!seen.insert(v).second) {
+      if constexpr (std::is_same_v<T, std::string>)
+        throw UsageError(option + " " + v + ": given twice");
+      else
+        throw UsageError(option + " " + std::to_string(v) + ": given twice");
+    }
+}
+
+// The report directory may exist (it is then reused), but not as a file, and its parent must.
+void check_report_dir(const std::string& dir) {
+  if (dir.empty()) throw UsageError("-o: the report directory must not be empty");
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw UsageError("-o " + dir + ": exists and is not a directory");
+  const fs::path parent = fs::absolute(dir).parent_path();
+  if (!fs::is_directory(parent))
+    throw UsageError("-o " + dir + ": directory " + parent.string() + " does not exist");
+}
+
+// One RenderScene at a time, built when first asked for and timed.
+struct BuiltScene {
+  std::string spheres;  // to_string of the sphere options it was built with
+  std::unique_ptr<RenderScene> scene;
+  double bvh_seconds = 0.0;
+};
+
+class Comparison {
+ public:
+  Comparison(const CompareOptions& o, SceneSetup& setup, const ColourPipeline& colour)
+      : o_(o), setup_(setup), colour_(colour) {}
+
+  CompareReport run(const std::vector<IntegratorKind>& integrators,
+                    const std::vector<SphereOptions>& modes, const RecordedRender* file_reference);
+
+ private:
+  const BuiltScene& scene_for(const SphereOptions& spheres);
+  // Renders once untimed (so first-touch page faults and cold caches stay out), then again
+  // timed; both with `settings`.
+  RenderResult render_timed(const Integrator& integrator, const BuiltScene& built, int spp,
+                            int warm_up_spp, Image* image) const;
+  // What the EXR of a render with the scene built now records.
+  RenderMetadata metadata_for(const std::string& integrator, const SphereOptions& spheres,
+                              const RenderResult& result, int spp) const;
+  // Writes images/<stem>.exr (with `metadata`, or else as a copy of the file `copy_of`) and
+  // its PNG preview, and points the row at the PNG.
+  void save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
+            const std::string& copy_of, CompareRow* row) const;
+  void progress(const std::string& what);
+
+  const CompareOptions& o_;
+  SceneSetup& setup_;
+  const ColourPipeline& colour_;
+  BuiltScene built_;
+  int done_ = 0, total_ = 0;
+};
+
+const BuiltScene& Comparison::scene_for(const SphereOptions& spheres) {
+  if (built_.scene && built_.spheres == to_string(spheres)) return built_;
+  built_.scene.reset();  // free the last one first: two BVHs at once would inflate peak RSS
+  const auto start = Clock::now();
+  built_.scene = std::make_unique<RenderScene>(
+      setup_.scene, setup_.geometry_options(spheres, /*robust=*/false), colour_);
+  built_.bvh_seconds = seconds_since(start);
+  built_.spheres = to_string(spheres);
+  return built_;
+}
+
+RenderResult Comparison::render_timed(const Integrator& integrator, const BuiltScene& built,
+                                      int spp, int warm_up_spp, Image* image) const {
+  RenderSettings settings = setup_.settings;
+  const Camera camera = built.scene->camera(setup_.camera(), settings.width, settings.height);
+  settings.spp = warm_up_spp;
+  render(integrator, RenderContext{*built.scene, camera, settings}, image);
+  settings.spp = spp;
+  return render(integrator, RenderContext{*built.scene, camera, settings}, image);
+}
+
+RenderMetadata Comparison::metadata_for(const std::string& integrator, const SphereOptions& spheres,
+                                        const RenderResult& result, int spp) const {
+  SceneSetup at_spp = setup_;
+  at_spp.settings.spp = spp;
+  const RenderSettings& s = setup_.settings;
+  return render_metadata(o_.scene, at_spp, built_.scene->camera(setup_.camera(), s.width, s.height),
+                         integrator, spheres, result);
+}
+
+void Comparison::save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
+                      const std::string& copy_of, CompareRow* row) const {
+  const fs::path images = fs::path(o_.report_dir) / "images";
+  const std::string exr = (images / (stem + ".exr")).string();
+  if (metadata)
+    write_exr(exr, image, colour_, *metadata, ExrPixelType::float32);
+  else
+    fs::copy_file(copy_of, exr, fs::copy_options::overwrite_existing);
+  write_png_preview((images / (stem + ".png")).string(), image, colour_);
+  row->image = "images/" + stem + ".png";
+}
+
+void Comparison::progress(const std::string& what) {
+  ++done_;
+  if (isatty(fileno(stderr)))
+    std::fprintf(stderr, "\rprism: compare %d/%d: %s\033[K", done_, total_, what.c_str());
+}
+
+CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
+                              const std::vector<SphereOptions>& modes,
+                              const RecordedRender* file_reference) {
+  CompareReport report;
+  const RenderSettings& s = setup_.settings;
+  report.scene = o_.scene.scene_path;
+  report.width = s.width;
+  report.height = s.height;
+  report.camera = setup_.camera().name;
+  report.working_space = to_string(setup_.working_space);
+  report.max_depth = s.max_depth;
+  report.plot_metric = o_.plot_metric;
+  total_ = static_cast<int>(integrators.size() * (modes.size() * o_.spp.size() + 1));
+
+  // References first: every other row is measured against one.
+  std::map<IntegratorKind, Image> references;
+  SphereOptions analytic;
+  for (IntegratorKind kind : integrators) {
+    const std::string name = to_string(kind);
+    CompareRow row;
+    row.reference = true;
+    row.integrator = name;
+    row.spheres = to_string(analytic);
+    if (file_reference) {
+      references[kind] = file_reference->image;
+      progress(name + " reference");
+      continue;
+    }
+    row.spp = o_.reference_spp;
+    const std::string cache_dir = reference_cache_dir();
+    const ReferenceKey key = reference_key(o_.scene, setup_, name, analytic, o_.reference_spp);
+    const std::string cache_path = cached_reference_path(cache_dir, key);
+    RenderResult result;
+    if (std::optional<RecordedRender> cached = find_cached_reference(cache_dir, key)) {
+      references[kind] = std::move(cached->image);
+      result.seconds = cached->seconds;
+      result.rays = cached->rays;
+      row.source = "cache";
+      report.reference_notes.push_back(name + ": analytic spheres, " +
+                                       std::to_string(o_.reference_spp) + " spp, from the cache " +
+                                       cache_path);
+    } else {
+      const BuiltScene& built = scene_for(analytic);
+      // One pass of one sample warms up as well as a whole reference would, at 1/spp the cost.
+      result = render_timed(*make_integrator(kind), built, o_.reference_spp, 1, &references[kind]);
+      row.bvh_seconds = built.bvh_seconds;
+      row.peak_rss_mib = peak_rss_mib();
+      fs::create_directories(cache_dir);
+      RenderMetadata metadata = metadata_for(name, analytic, result, o_.reference_spp);
+      metadata.extra.push_back(reference_metadata_entry(key));
+      write_exr(cache_path, references[kind], colour_, metadata, ExrPixelType::float32);
+      report.reference_notes.push_back(
+          name + ": analytic spheres, " + std::to_string(o_.reference_spp) + " spp, rendered in " +
+          format_error(result.seconds) + " s and cached as " + cache_path);
+    }
+    row.seconds = result.seconds;
+    row.rays = result.rays;
+    save(name + "-reference", references[kind], nullptr, cache_path, &row);
+    report.rows.push_back(row);
+    progress(name + " reference");
+  }
+  if (file_reference) {
+    CompareRow row;
+    row.reference = true;
+    row.integrator = "-";
+    row.spheres = "-";
+    row.spp = file_reference->spp;
+    row.seconds = file_reference->seconds;
+    row.rays = file_reference->rays;
+    row.source = "file";
+    save("reference", file_reference->image, nullptr, o_.reference_path, &row);
+    report.rows.push_back(row);
+    report.reference_notes.push_back("all integrators: the file " + o_.reference_path);
+  }
+
+  // Then every combination, one BVH per sphere mode; rows ordered as the options list them.
+  std::vector<std::pair<std::tuple<size_t, size_t, size_t>, CompareRow>> tests;
+  for (size_t m = 0; m < modes.size(); ++m) {
+    const BuiltScene& built = scene_for(modes[m]);
+    for (size_t i = 0; i < integrators.size(); ++i) {
+      const std::unique_ptr<Integrator> integrator = make_integrator(integrators[i]);
+      for (size_t k = 0; k < o_.spp.size(); ++k) {
+        const int spp = o_.spp[k];
+        CompareRow row;
+        row.integrator = integrator->name();
+        row.spheres = to_string(modes[m]);
+        row.spp = spp;
+        progress(row.integrator + ", " + row.spheres + ", " + std::to_string(spp) + " spp");
+        Image image;
+        const RenderResult result = render_timed(*integrator, built, spp, spp, &image);
+        row.seconds = result.seconds;
+        row.rays = result.rays;
+        row.bvh_seconds = built.bvh_seconds;
+        row.peak_rss_mib = peak_rss_mib();
+        row.error = compare_images(image, references.at(integrators[i])).overall;
+        const RenderMetadata metadata = metadata_for(row.integrator, modes[m], result, spp);
+        save(row.integrator + "-" + file_safe(row.spheres) + "-" + std::to_string(spp) + "spp",
+             image, &metadata, "", &row);
+        tests.push_back({{i, m, k}, row});
+      }
+    }
+  }
+  if (isatty(fileno(stderr))) std::fprintf(stderr, "\r\033[K");
+  std::stable_sort(tests.begin(), tests.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [order, row] : tests) report.rows.push_back(std::move(row));
+  return report;
+}
+
+// The plot's points, one curve per integrator and sphere mode; marks the Pareto front on
+// the rows too, so the tables show it.
+Plot make_plot(CompareReport* report) {
+  Plot plot;
+  plot.title = "prism compare: " + fs::path(report->scene).filename().string() + ", " +
+               std::to_string(report->width) + "x" + std::to_string(report->height);
+  plot.error_label = report->plot_metric == "rmse" ? "RMSE" : "relMSE";
+  std::vector<size_t> row_of_point;
+  for (size_t r = 0; r < report->rows.size(); ++r) {
+    const CompareRow& row = report->rows[r];
+    if (row.reference) continue;
+    const std::string curve = row.integrator + ", " + row.spheres;
+    auto it = std::find(plot.curves.begin(), plot.curves.end(), curve);
+    if (it == plot.curves.end()) it = plot.curves.insert(plot.curves.end(), curve);
+    plot.points.push_back({static_cast<int>(it - plot.curves.begin()), row.spp, row.seconds,
+                           plot_error(row, report->plot_metric), false});
+    row_of_point.push_back(r);
+  }
+  mark_pareto_front(&plot.points);
+  for (size_t p = 0; p < plot.points.size(); ++p)
+    report->rows[row_of_point[p]].pareto = plot.points[p].pareto;
+  return plot;
+}
+
+int run(const CompareOptions& o) {
+  std::vector<IntegratorKind> integrators;
+  for (const std::string& name : o.integrators)
+    integrators.push_back(parse_integrator_option(name, "--integrators"));
+  refuse_duplicates(o.integrators, "--integrators");
+  std::vector<SphereOptions> modes;
+  std::vector<std::string> mode_names;
+  for (const std::string& text : o.spheres) {
+    modes.push_back(parse_spheres_option(text, "--spheres"));
+    mode_names.push_back(to_string(modes.back()));
+  }
+  refuse_duplicates(mode_names, "--spheres");
+  refuse_duplicates(o.spp, "--spp");
+  SceneSetup setup = check_scene_options(o.scene);
+  check_report_dir(o.report_dir);
+  // Read before the scene, so a wrong path costs nothing.
+  std::optional<RecordedRender> file_reference;
+  if (!o.reference_path.empty()) {
+    try {
+      file_reference = read_recorded_render(o.reference_path);
+    } catch (const std::exception& e) {
+      throw UsageError(std::string("--reference ") + e.what());
+    }
+  } else {
+    reference_cache_dir();  // fails now, not after the first renders, when there is none
+  }
+
+  const auto thread_limit = limit_threads(o.scene.threads);
+  const ColourPipeline colour(setup.working_space);
+  load_scene(o.scene, &setup);
+  if (file_reference) check_reference_size(file_reference->image, o.reference_path, setup.settings);
+  fs::create_directories(fs::path(o.report_dir) / "images");
+
+  Comparison comparison(o, setup, colour);
+  CompareReport report =
+      comparison.run(integrators, modes, file_reference ? &*file_reference : nullptr);
+  const Plot plot = make_plot(&report);
+
+  const fs::path dir(o.report_dir);
+  write_plot_svg((dir / "plot.svg").string(), plot);
+  if (!write_plot_png((dir / "plot.png").string(), plot))
+    std::fprintf(stderr,
+                 "prism: warning: %s: drawn without its labels: OpenImageIO found no DejaVuSans "
+                 "font (Debian package fonts-dejavu-core)\n",
+                 (dir / "plot.png").c_str());
+  write_results_json((dir / "results.json").string(), report);
+  write_results_csv((dir / "results.csv").string(), report);
+  write_index_html((dir / "index.html").string(), report);
+
+  std::printf("compared %s, %dx%d, camera '%s'\n", o.scene.scene_path.c_str(), report.width,
+              report.height, report.camera.c_str());
+  for (const std::string& note : report.reference_notes)
+    std::printf("reference %s\n", note.c_str());
+  print_table(report);
+  std::printf("wrote %s (results.json, results.csv, plot.svg, plot.png, images/)\n",
+              (dir / "index.html").c_str());
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
+  CLI::App* cmd = app.add_subcommand(
+      "compare",
+      "Render every integrator x sphere mode x spp, time each and measure its error against a "
+      "reference; write a report directory");
+  cmd->footer(
+      "Each combination is rendered twice, the second time timed, so that cold caches stay out "
+      "of the figures; BVH build time is reported apart. Without --reference, each "
+      "integrator's reference is the same integrator with analytic spheres at --reference-spp, "
+      "cached in $XDG_CACHE_HOME/prism/references (or ~/.cache/prism/references). See "
+      "docs/compare.md.");
+  add_scene_options(cmd, &o->scene);
+  cmd->add_option("-o,--output", o->report_dir,
+                  "Report directory (created; files in it are replaced)")
+      ->required();
+  cmd->add_option("--integrators", o->integrators, "Comma-separated: phong, shadow, whitted")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--spp", o->spp, "Comma-separated samples per pixel")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1 << 16))
+      ->capture_default_str();
+  cmd->add_option("--spheres", o->spheres,
+                  "Comma-separated sphere modes: analytic, mesh[:LEVEL], embree-points")
+      ->delimiter(',')
+      ->capture_default_str();
+  CLI::Option* reference =
+      cmd->add_option("--reference", o->reference_path,
+                      "Reference image (.exr) for every integrator, of the render's size");
+  cmd->add_option("--reference-spp", o->reference_spp,
+                  "Samples per pixel of the rendered references (analytic spheres)")
+      ->check(CLI::Range(1, 1 << 16))
+      ->excludes(reference)
+      ->capture_default_str();
+  cmd->add_option("--plot-metric", o->plot_metric, "Error on the plot's y axis: rmse | relmse")
+      ->check(CLI::IsMember({"rmse", "relmse"}))
+      ->capture_default_str();
+  return cmd;
+}
+
+int run_compare(const CompareOptions& options) {
+  return run_reporting_errors([&] { return run(options); });
+}
+
+}  // namespace prism

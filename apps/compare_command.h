@@ -1,0 +1,32 @@
+// `prism compare`: renders a scene with every combination of integrator, sphere mode and
+// samples per pixel, measures each against a reference, and writes a report directory
+// (results.json, results.csv, images, a time-versus-error plot, index.html). docs/compare.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "apps/render_setup.h"
+
+namespace prism {
+
+struct CompareOptions {
+  SceneOptions scene;
+  std::vector<std::string> integrators{"phong", "shadow", "whitted"};
+  std::vector<int> spp{1, 4, 16, 64};
+  std::vector<std::string> spheres{"analytic"};
+  std::string reference_path;  // empty: render (or find in the cache) one per integrator
+  int reference_spp = 256;
+  std::string report_dir;
+  std::string plot_metric = "relmse";
+};
+
+// Adds the `compare` subcommand to `app`, filling `options` when it is parsed.
+CLI::App* add_compare_command(CLI::App& app, CompareOptions* options);
+
+// Runs it. Returns the process exit code; errors are printed as one line on stderr.
+int run_compare(const CompareOptions& options);
+
+}  // namespace prism

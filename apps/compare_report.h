@@ -1,0 +1,49 @@
+// What `prism compare` writes into its report directory (results.json, results.csv,
+// index.html) and prints on the terminal, all from one list of columns.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/image_metrics.h"
+#include "renderer/integrator.h"
+
+namespace prism {
+
+struct CompareRow {
+  bool reference = false;  // the row of a reference render (its error columns are empty)
+  std::string integrator;
+  std::string spheres;
+  int spp = 1;
+  double seconds = 0.0;               // the timed render, after a warm-up
+  std::optional<double> bvh_seconds;  // building the RenderScene for this sphere mode
+  RayCounters rays;
+  std::optional<ChannelError> error;   // overall RGB error against the reference
+  std::optional<double> peak_rss_mib;  // the process's high-water mark after this render
+  std::string source = "rendered";     // references: "rendered", "cache" or "file"
+  bool pareto = false;                 // on the time-versus-error Pareto front
+  std::string image;                   // path of the PNG, relative to the report directory
+};
+
+struct CompareReport {
+  std::string scene;
+  int width = 0, height = 0;
+  std::string camera;
+  std::string working_space;
+  int max_depth = 0;
+  std::string plot_metric;                   // "rmse" or "relmse"
+  std::vector<std::string> reference_notes;  // one line per reference: where it came from
+  std::vector<CompareRow> rows;
+};
+
+// The figure of `row` that the plot and the Pareto front use (NaN without an error).
+double plot_error(const CompareRow& row, const std::string& metric);
+
+void write_results_json(const std::string& path, const CompareReport& report);
+void write_results_csv(const std::string& path, const CompareReport& report);
+void write_index_html(const std::string& path, const CompareReport& report);
+// The table with aligned columns, on stdout.
+void print_table(const CompareReport& report);
+
+}  // namespace prism

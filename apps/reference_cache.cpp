@@ -1,0 +1,165 @@
+#include "apps/reference_cache.h"
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <OpenImageIO/hash.h>
+#include <OpenImageIO/imageio.h>
+
+#include "renderer/image_metrics.h"
+#include "renderer/version.h"
+
+namespace prism {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The EXR attribute (prism:<name>) holding the settings a cached reference was made with.
+constexpr const char* kKeyAttribute = "referenceKey";
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string hex128(const OIIO::farmhash::uint128_t& h) {
+  char buffer[33];
+  std::snprintf(buffer, sizeof buffer, "%016llx%016llx",
+                static_cast<unsigned long long>(OIIO::farmhash::Uint128High64(h)),
+                static_cast<unsigned long long>(OIIO::farmhash::Uint128Low64(h)));
+  return buffer;
+}
+
+// The glTF's JSON: the whole .gltf, or a .glb's first chunk (after the 12-byte header and the
+// chunk's length and type). Empty when it is neither.
+std::string gltf_json(const std::string& bytes) {
+  if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {
+    uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, sizeof length);
+    return bytes.substr(20, length);
+  }
+  return bytes;
+}
+
+// The scene's bytes with those of the files it names (buffers, images): editing a texture
+// or a .bin beside the .gltf must not bring back a stale reference.
+std::string scene_fingerprint(const std::string& scene_path) {
+  const std::string bytes = read_bytes(scene_path);
+  std::string all = bytes;
+  const nlohmann::json gltf = nlohmann::json::parse(gltf_json(bytes), nullptr, false);
+  if (gltf.is_object()) {
+    for (const char* list : {"buffers", "images"}) {
+      if (!gltf.contains(list) || !gltf[list].is_array()) continue;
+      for (const nlohmann::json& item : gltf[list]) {
+        if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+        const std::string uri = item["uri"];
+        if (uri.rfind("data:", 0) == 0) continue;  // embedded: already in the bytes
+        all += uri;
+        all += read_bytes(fs::path(scene_path).parent_path() / uri);
+      }
+    }
+  }
+  return hex128(OIIO::farmhash::Fingerprint128(all.data(), all.size()));
+}
+
+}  // namespace
+
+ReferenceKey reference_key(const SceneOptions& options, const SceneSetup& setup,
+                           const std::string& integrator, const SphereOptions& spheres, int spp) {
+  const CameraDescription& camera = setup.camera();
+  const RenderSettings& s = setup.settings;
+  std::vector<double> camera_to_world;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) camera_to_world.push_back(camera.camera_to_world[r][c]);
+  ReferenceKey key;
+  key.settings = {
+      {"version", kVersion},
+      {"scene", scene_fingerprint(options.scene_path)},
+      {"integrator", integrator},
+      {"spp", spp},
+      {"width", s.width},
+      {"height", s.height},
+      {"camera",
+       {{"index", setup.camera_index},
+        {"name", camera.name},
+        {"projection", static_cast<int>(camera.projection)},
+        {"cameraToWorld", camera_to_world},
+        {"yfov", camera.yfov},
+        {"aspectRatio", camera.aspect_ratio},
+        {"xmag", camera.xmag},
+        {"ymag", camera.ymag},
+        {"znear", camera.znear}}},
+      {"maxDepth", s.max_depth},
+      {"workingSpace", to_string(setup.working_space)},
+      {"ambient", {s.ambient.x, s.ambient.y, s.ambient.z}},
+      {"background", {s.background.x, s.background.y, s.background.z}},
+      {"spheres", to_string(spheres)},
+  };
+  const std::string text = key.settings.dump();
+  key.hash = hex128(OIIO::farmhash::Fingerprint128(text.data(), text.size()));
+  return key;
+}
+
+std::string reference_cache_dir() {
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  // The XDG base directory spec says a relative XDG_CACHE_HOME is invalid and to be ignored.
+  if (xdg && *xdg && fs::path(xdg).is_absolute())
+    return (fs::path(xdg) / "prism" / "references").string();
+  const char* home = std::getenv("HOME");
+  if (home && *home) return (fs::path(home) / ".cache" / "prism" / "references").string();
+  throw UsageError(
+      "--reference-spp: no cache directory for references (set XDG_CACHE_HOME or HOME)");
+}
+
+std::string cached_reference_path(const std::string& dir, const ReferenceKey& key) {
+  return (fs::path(dir) / (key.hash + ".exr")).string();
+}
+
+std::pair<std::string, std::string> reference_metadata_entry(const ReferenceKey& key) {
+  return {kKeyAttribute, key.settings.dump()};
+}
+
+RecordedRender read_recorded_render(const std::string& path) {
+  RecordedRender recorded;
+  recorded.image = read_exr(path);
+  auto input = OIIO::ImageInput::open(path);
+  if (!input) throw std::runtime_error(path + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = input->spec();
+  recorded.spp = spec.get_int_attribute("prism:spp", 0);
+  recorded.seconds = spec.get_float_attribute("prism:renderSeconds", 0.0f);
+  // write_exr stores the counts as strings (RenderMetadata::extra).
+  auto count = [&](const char* name) {
+    return std::strtoull(spec.get_string_attribute(std::string("prism:") + name).c_str(), nullptr,
+                         10);
+  };
+  recorded.rays.camera = count("raysCamera");
+  recorded.rays.shadow = count("raysShadow");
+  recorded.rays.reflection = count("raysReflection");
+  recorded.rays.refraction = count("raysRefraction");
+  recorded.rays.discarded_samples = count("discardedSamples");
+  return recorded;
+}
+
+std::optional<RecordedRender> find_cached_reference(const std::string& dir,
+                                                    const ReferenceKey& key) {
+  const std::string path = cached_reference_path(dir, key);
+  if (!fs::is_regular_file(path)) return std::nullopt;
+  {
+    auto input = OIIO::ImageInput::open(path);
+    // Unreadable, or another key with the same hash: render it again.
+    if (!input || input->spec().get_string_attribute(std::string("prism:") + kKeyAttribute) !=
+                      key.settings.dump())
+      return std::nullopt;
+  }
+  try {
+    return read_recorded_render(path);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace prism

@@ -1,0 +1,55 @@
+// The on-disk cache of `prism compare`'s reference renders. A reference at 256 spp costs far
+// more than the renders it judges, and it depends only on the scene and the settings that
+// change its pixels, so it is rendered once and found again by a hash of those.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/render_setup.h"
+#include "renderer/image.h"
+#include "renderer/integrator.h"
+
+namespace prism {
+
+struct ReferenceKey {
+  nlohmann::json settings;  // everything hashed, kept in the EXR to check a hit against
+  std::string hash;         // 32 hex digits
+};
+
+// The hash of the scene file's bytes (and of the external buffers and images it names), the
+// program version and every setting that changes the image: integrator, spp, resolution, the
+// camera used, max depth, working space, ambient, background, sphere mode. Not the thread
+// count: the image is bit-identical whatever it is.
+ReferenceKey reference_key(const SceneOptions& options, const SceneSetup& setup,
+                           const std::string& integrator, const SphereOptions& spheres, int spp);
+
+// $XDG_CACHE_HOME/prism/references, or ~/.cache/prism/references. Throws UsageError when
+// neither XDG_CACHE_HOME nor HOME is set.
+std::string reference_cache_dir();
+
+// An image with what prism recorded in it when it rendered it (zero when it did not).
+struct RecordedRender {
+  Image image;
+  int spp = 0;
+  double seconds = 0.0;  // how long the render took when it was made
+  RayCounters rays;
+};
+
+// Reads an EXR and its prism:spp, prism:renderSeconds and prism:rays* attributes. Throws
+// std::runtime_error("<path>: <reason>") when it cannot be read.
+RecordedRender read_recorded_render(const std::string& path);
+
+// The render stored under `key` in `dir`, or nothing when there is none (or a file whose
+// recorded settings differ, which is then rendered again and replaced).
+std::optional<RecordedRender> find_cached_reference(const std::string& dir,
+                                                    const ReferenceKey& key);
+
+// The path a reference with `key` is stored at; write it with write_exr and
+// reference_metadata_entry so find_cached_reference recognises it.
+std::string cached_reference_path(const std::string& dir, const ReferenceKey& key);
+std::pair<std::string, std::string> reference_metadata_entry(const ReferenceKey& key);
+
+}  // namespace prism
