@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs, from Debian 12's archive, exactly the packages Prism builds, tests and
-# renders with. Idempotent: packages already present are not touched, and apt is
+# renders with, plus any package names given as arguments (scripts/setup-bench.sh passes
+# the benchmarks' own). Idempotent: packages already present are not touched, and apt is
 # only called when something is missing.
 set -euo pipefail
 
@@ -23,6 +24,7 @@ PACKAGES=(
   # tests/cli/compare.sh opens the HTML report in headless Chromium (large, but it is the
   # only way to check the page as a browser draws it)
   chromium
+  "$@"
 )
 
 missing=()
