@@ -12,6 +12,7 @@
 #   macro.md        bench/macro.py (load, render, rays/s, peak RSS, error vs reference)
 #   threads.md      bench/threads.py (1, 2, all threads)
 #   peers.md        bench/peers/run_peers.py (Cycles, POV-Ray), about 4 minutes
+#   peers.svg/png   that table plotted as time against error (bench/plot_peers.py)
 #   profile.txt     callgrind instruction counts of one shadow render (if valgrind is there)
 #   scenes/         the generated scenes (bench/make_bench_scenes.py), not to be committed
 #
@@ -80,6 +81,12 @@ done_step threads
 
 step peers
 /usr/bin/python3 bench/peers/run_peers.py --out "$OUT/peers" >"$OUT/peers.md"
+# The same table as a time-against-error plot (SVG, and a PNG drawn by headless Chromium).
+python3 bench/plot_peers.py "$OUT/peers.md" "$OUT/peers.svg"
+chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+  --disable-background-networking --disable-component-update --disable-sync \
+  --user-data-dir="$(mktemp -d)" --hide-scrollbars --window-size=1620,440 \
+  --screenshot="$OUT/peers.png" "file://$OUT/peers.svg" 2>/dev/null || true
 done_step peers
 
 # Where the time goes: instructions (not time, so the load does not matter) inside
