@@ -5,6 +5,7 @@
 
 #include "apps/compare_command.h"
 #include "apps/diff_command.h"
+#include "apps/info_command.h"
 #include "apps/render_command.h"
 #include "renderer/version.h"
 
@@ -18,6 +19,8 @@ int main(int argc, char** argv) {
   CLI::App* diff = prism::add_diff_command(app, &diff_options);
   prism::CompareOptions compare_options;
   CLI::App* compare = prism::add_compare_command(app, &compare_options);
+  prism::InfoOptions info_options;
+  CLI::App* info = prism::add_info_command(app, &info_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -32,11 +35,13 @@ int main(int argc, char** argv) {
                  render->parsed()    ? "render "
                  : diff->parsed()    ? "diff "
                  : compare->parsed() ? "compare "
+                 : info->parsed()    ? "info "
                                      : "");
     return 2;
   }
   if (render->parsed()) return prism::run_render(render_options);
   if (diff->parsed()) return prism::run_diff(diff_options);
   if (compare->parsed()) return prism::run_compare(compare_options);
+  if (info->parsed()) return prism::run_info(info_options);
   return 2;
 }

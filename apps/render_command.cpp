@@ -13,6 +13,7 @@
 #include "renderer/image_output.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
+#include "renderer/scene_features.h"
 #include "renderer/sphere_geometry.h"
 
 namespace prism {
@@ -57,6 +58,8 @@ int run(const RenderOptions& o) {
                  stats.mesh_instances, stats.spheres, to_string(geometry_options.spheres).c_str(),
                  render_scene.lights().size(), camera_description.name.c_str(), settings.width,
                  settings.height, settings.spp, load_seconds);
+    std::fprintf(stderr, "prism: features: %s\n",
+                 to_string(derive_scene_features(setup.scene, geometry_options.spheres)).c_str());
   }
 
   // With a reference, the per-pass lines report progress, and a bar would garble them.

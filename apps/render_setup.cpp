@@ -8,6 +8,7 @@
 
 #include "renderer/image_metrics.h"
 #include "renderer/scene_defaults.h"
+#include "renderer/scene_features.h"
 #include "scene_io/gltf_loader.h"
 
 namespace prism {
@@ -170,6 +171,10 @@ RenderMetadata render_metadata(const SceneOptions& options, const SceneSetup& se
                     {"raysReflection", std::to_string(result.rays.reflection)},
                     {"raysRefraction", std::to_string(result.rays.refraction)},
                     {"discardedSamples", std::to_string(result.rays.discarded_samples)}};
+  // Derived again rather than passed in, so `prism compare` records it too: it is cheap
+  // next to a render.
+  const auto features = feature_metadata(derive_scene_features(setup.scene, spheres));
+  metadata.extra.insert(metadata.extra.end(), features.begin(), features.end());
   return metadata;
 }
 

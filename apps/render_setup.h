@@ -85,7 +85,7 @@ void check_reference_size(const Image& reference, const std::string& path,
                           const RenderSettings& settings);
 
 // What the EXR of a finished render records: integrator, spp, time, camera matrices, scene,
-// sphere mode, depth and the rays cast by kind.
+// sphere mode, depth, the rays cast by kind and the scene's feature set (scene_features.h).
 RenderMetadata render_metadata(const SceneOptions& options, const SceneSetup& setup,
                                const Camera& camera, const std::string& integrator,
                                const SphereOptions& spheres, const RenderResult& result);

@@ -1,0 +1,24 @@
+// `prism info`: what a glTF file holds as Prism reads it (meshes, materials, textures with
+// their encodings, lights, cameras, spheres, extensions), the feature set the renderer
+// derives from it (renderer/scene_features.h) and the loader's warnings. docs/info.md.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace prism {
+
+struct InfoOptions {
+  std::string scene_path;
+  std::string spheres = "analytic";  // the sphere mode the feature set assumes
+};
+
+// Adds the `info` subcommand to `app`, filling `options` when it is parsed.
+CLI::App* add_info_command(CLI::App& app, InfoOptions* options);
+
+// 0 after printing; 1 with one line on stderr when the file cannot be loaded; 2 for a bad
+// --spheres.
+int run_info(const InfoOptions& options);
+
+}  // namespace prism
