@@ -236,7 +236,9 @@ int run(const InfoOptions& o) {
   const SphereOptions spheres = parse_spheres_option(o.spheres, "--spheres");
   SceneDescription scene;
   try {
-    scene = load_gltf(o.scene_path);
+    LoadOptions load_options;
+    load_options.allow_external_paths = o.allow_external_paths;
+    scene = load_gltf(o.scene_path, load_options);
   } catch (const LoadError&) {
     throw;  // already "<file>: <element>: <what>"
   } catch (const std::exception& e) {
@@ -271,6 +273,7 @@ CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
   cmd->add_option("--spheres", o->spheres,
                   "Sphere mode the feature set assumes: analytic | mesh[:LEVEL] | embree-points")
       ->capture_default_str();
+  add_allow_external_paths_flag(cmd, &o->allow_external_paths);
   return cmd;
 }
 

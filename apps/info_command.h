@@ -12,6 +12,7 @@ namespace prism {
 struct InfoOptions {
   std::string scene_path;
   std::string spheres = "analytic";  // the sphere mode the feature set assumes
+  bool allow_external_paths = false;
 };
 
 // Adds the `info` subcommand to `app`, filling `options` when it is parsed.

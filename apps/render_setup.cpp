@@ -69,6 +69,13 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
       ->capture_default_str();
   cmd->add_option("--background", o->background, "Radiance of rays that leave the scene")
       ->capture_default_str();
+  add_allow_external_paths_flag(cmd, &o->allow_external_paths);
+}
+
+void add_allow_external_paths_flag(CLI::App* cmd, bool* allow) {
+  // Untrusted files must not read anything outside their own folder (docs/gltf.md).
+  cmd->add_flag("--allow-external-paths", *allow,
+                "Let the scene's buffers and images come from outside its folder");
 }
 
 GeometryOptions SceneSetup::geometry_options(const SphereOptions& spheres, bool robust) const {
@@ -99,7 +106,9 @@ SceneSetup check_scene_options(const SceneOptions& o) {
 }
 
 void load_scene(const SceneOptions& o, SceneSetup* setup) {
-  setup->scene = load_gltf(o.scene_path);
+  LoadOptions load_options;
+  load_options.allow_external_paths = o.allow_external_paths;
+  setup->scene = load_gltf(o.scene_path, load_options);
   add_scene_defaults(&setup->scene);
   for (const std::string& w : setup->scene.warnings)
     std::fprintf(stderr, "prism: warning: %s: %s\n", o.scene_path.c_str(), w.c_str());

@@ -41,7 +41,11 @@ struct SceneOptions {
   std::string working_space = "linear-rec709";
   float ambient = 0.0f;
   float background = 0.0f;
+  bool allow_external_paths = false;  // buffers and images from outside the scene's folder
 };
+
+// Adds --allow-external-paths (every command that reads a scene file offers it).
+void add_allow_external_paths_flag(CLI::App* cmd, bool* allow);
 
 // Adds the scene positional argument and --res, --camera, --threads, --max-depth,
 // --working-space, --ambient and --background to `cmd`.

@@ -12,6 +12,7 @@
 #include <optional>
 #include <tuple>
 
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 #include <nlohmann/json.hpp>
 
@@ -19,6 +20,7 @@
 #include "scene_io/gltf_accessors.h"
 #include "scene_io/gltf_error.h"
 #include "scene_io/gltf_json_check.h"
+#include "scene_io/gltf_limits.h"
 
 namespace prism {
 
@@ -70,6 +72,29 @@ std::string glb_json(const std::vector<unsigned char>& bytes, const std::string&
 }
 
 nlohmann::json parse_json(const std::string& text, const std::string& file) {
+  // Depth is checked on the text before parsing, so that neither nlohmann nor tinygltf's
+  // recursive conversion of extras ever holds a too-deep document. (nlohmann's parser callback
+  // could do it, but makes parsing a million-object file take minutes.)
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > gltf_limits::kMaxJsonDepth) {
+        fail(file, "JSON",
+             "nested deeper than " + std::to_string(gltf_limits::kMaxJsonDepth) + " levels");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
@@ -96,24 +121,188 @@ std::string url_decode(const std::string& uri) {
   return out;
 }
 
-// tinygltf reports a missing external file without saying which buffer or image wanted it.
-void check_external_files(const nlohmann::json& root, const std::filesystem::path& base,
-                          const std::string& file) {
+// Decoded size of `length` base64 characters (without '=' padding), as tinygltf's decoder
+// counts them: 3 bytes per 4 characters, and 1 or 2 bytes for a final 2 or 3.
+std::size_t base64_decoded_size(std::size_t length) {
+  return length / 4 * 3 + (length % 4 == 0 ? 0 : length % 4 - 1);
+}
+
+// A data: URI's size, from its text, before tinygltf decodes it: tinygltf requires a buffer's
+// decoded size to equal byteLength but only says "failed" when it does not, and it would decode
+// a URI of any size first.
+void check_data_uri(const std::string& uri, const nlohmann::json& object, bool is_buffer,
+                    const std::string& element, const std::string& file) {
+  const std::size_t comma = uri.find(',');
+  if (comma == std::string::npos ||
+      uri.compare(comma - std::min(comma, std::size_t{7}), 7, ";base64") != 0) {
+    fail(file, element, "only base64 data: URIs are supported");
+  }
+  const std::size_t length = uri.size() - comma - 1;
+  std::size_t padding = 0;
+  while (padding < length && uri[uri.size() - 1 - padding] == '=') ++padding;
+  const std::size_t decoded = base64_decoded_size(length - padding);
+  if (decoded > gltf_limits::kMaxDataUriBytes) {
+    fail(file, element,
+         "data URI of " + std::to_string(decoded) + " bytes exceeds the limit of " +
+             std::to_string(gltf_limits::kMaxDataUriBytes));
+  }
+  if (is_buffer) {
+    // check_gltf_json has made byteLength an integer >= 1.
+    const auto declared = object["byteLength"].get<std::uint64_t>();
+    if (decoded != declared) {
+      fail(file, element,
+           "data URI holds " + std::to_string(decoded) + " bytes but byteLength is " +
+               std::to_string(declared));
+    }
+  }
+}
+
+bool has_uri_scheme(const std::string& uri) {
+  // RFC 3986: scheme = ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":"
+  if (uri.empty() || !std::isalpha(uint8_t(uri[0]))) return false;
+  for (std::size_t i = 1; i < uri.size(); ++i) {
+    const char c = uri[i];
+    if (c == ':') return i > 1;  // one letter could be a Windows drive, refused anyway as absolute
+    if (!std::isalnum(uint8_t(c)) && c != '+' && c != '-' && c != '.') return false;
+  }
+  return false;
+}
+
+// Every buffer and image URI: data URIs sized, files inside the asset's folder (unless the
+// caller allows otherwise) and present. tinygltf would silently read any path it is given and
+// report a missing file without saying which buffer or image wanted it.
+void check_uris(const nlohmann::json& root, const std::filesystem::path& base,
+                const std::string& file, const LoadOptions& options) {
+  std::error_code ec;
+  const std::filesystem::path folder = std::filesystem::weakly_canonical(base, ec);
+  if (ec) fail(file, "file", "cannot resolve the asset's folder: " + ec.message());
   for (const char* array : {"buffers", "images"}) {
     auto it = root.find(array);
     if (it == root.end()) continue;
     for (std::size_t i = 0; i < it->size(); ++i) {
-      auto uri = (*it)[i].find("uri");
-      if (uri == (*it)[i].end()) continue;
+      const nlohmann::json& object = (*it)[i];
+      auto uri = object.find("uri");
+      if (uri == object.end()) continue;
+      const std::string element = indexed(array, i) + ".uri";
       const std::string text = uri->get<std::string>();
-      if (text.rfind("data:", 0) == 0) continue;
-      const std::filesystem::path target = base / url_decode(text);
-      std::error_code ec;
+      if (text.rfind("data:", 0) == 0) {
+        check_data_uri(text, object, std::string(array) == "buffers", element, file);
+        continue;
+      }
+      const std::string decoded = url_decode(text);
+      const std::filesystem::path relative(decoded);
+      if (has_uri_scheme(text) || relative.is_absolute()) {
+        fail(
+            file, element,
+            "\"" + text + "\" is " + (has_uri_scheme(text) ? "not a relative path" : "absolute") +
+                (options.allow_external_paths
+                     ? "; only paths relative to the asset are resolved"
+                     : "; only files in the asset's folder are read (see --allow-external-paths)"));
+      }
+      if (decoded.find('\0') != std::string::npos) fail(file, element, "contains a NUL character");
+      const std::filesystem::path target = base / relative;
+      if (!options.allow_external_paths) {
+        // Canonical paths, so that "a/../../x" and symlinks pointing out are caught as well.
+        const std::filesystem::path resolved = std::filesystem::weakly_canonical(target, ec);
+        const std::filesystem::path inside =
+            ec ? std::filesystem::path("..") : resolved.lexically_relative(folder);
+        if (inside.empty() || *inside.begin() == "..") {
+          fail(file, element,
+               "\"" + text + "\" points outside the asset's folder (see --allow-external-paths)");
+        }
+      }
       if (!std::filesystem::is_regular_file(target, ec)) {
-        fail(file, indexed(array, i) + ".uri", "file \"" + text + "\" not found");
+        fail(file, element, "file \"" + text + "\" not found");
+      }
+      if (std::string(array) == "images") {
+        const auto size = std::filesystem::file_size(target, ec);
+        if (!ec && size > gltf_limits::kMaxImageFileBytes) {
+          fail(file, element,
+               "image file of " + std::to_string(size) + " bytes exceeds the limit of " +
+                   std::to_string(gltf_limits::kMaxImageFileBytes));
+        }
       }
     }
   }
+}
+
+// tinygltf keeps every object of the file in memory, a few hundred bytes each.
+void check_object_count(const nlohmann::json& root, const std::string& file) {
+  std::size_t count = 0;
+  for (const auto& [key, value] : root.items()) {
+    if (!value.is_array()) continue;
+    count += value.size();
+    if (key == "meshes") {
+      for (const auto& mesh : value) {
+        if (auto p = mesh.find("primitives"); p != mesh.end() && p->is_array()) count += p->size();
+      }
+    }
+  }
+  if (count > gltf_limits::kMaxObjects) {
+    fail(file, "glTF",
+         std::to_string(count) + " objects exceed the limit of " +
+             std::to_string(gltf_limits::kMaxObjects));
+  }
+}
+
+uint32_t be32(const unsigned char* p) {  // PNG stores sizes big-endian
+  return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | uint32_t(p[3]);
+}
+
+// Image decoding goes through here so that an image's size is known from its header before
+// stb_image allocates for it: a 100 KB PNG can claim 100000 x 100000 pixels.
+struct ImageGuard {
+  std::size_t texels_used = 0;
+  std::string element;  // set when an image was refused
+  std::string what;
+};
+
+bool load_image_checked(tinygltf::Image* image, const int index, std::string* err,
+                        std::string* warn, int req_width, int req_height,
+                        const unsigned char* bytes, int size, void* user_data) {
+  auto& guard = *static_cast<ImageGuard*>(user_data);
+  const auto refuse = [&](const std::string& what) {
+    guard.element = indexed("images", std::size_t(index));
+    guard.what = what;
+    if (err) *err += guard.element + ": " + what + "\n";
+    return false;
+  };
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  if (size <= 0 || !stbi_info_from_memory(bytes, size, &width, &height, &channels)) {
+    // stb_image also refuses PNGs over 2^30 bytes in its header check; say why.
+    static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    if (size >= 24 && std::memcmp(bytes, kPng, 8) == 0 && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
+      return refuse(std::to_string(be32(bytes + 16)) + " x " + std::to_string(be32(bytes + 20)) +
+                    " pixels; each side is limited to " +
+                    std::to_string(gltf_limits::kMaxImageSide));
+    }
+    return refuse("not an image in a format the decoder reads (PNG, JPEG, ...)");
+  }
+  if (width <= 0 || height <= 0 || width > gltf_limits::kMaxImageSide ||
+      height > gltf_limits::kMaxImageSide) {
+    return refuse(std::to_string(width) + " x " + std::to_string(height) +
+                  " pixels; each side is limited to " + std::to_string(gltf_limits::kMaxImageSide));
+  }
+  const std::size_t texels = std::size_t(width) * std::size_t(height);
+  if (texels > gltf_limits::kMaxImageTexels) {
+    return refuse(std::to_string(width) + " x " + std::to_string(height) +
+                  " pixels exceed the limit of " + std::to_string(gltf_limits::kMaxImageTexels) +
+                  " pixels per image");
+  }
+  if (texels > gltf_limits::kMaxTotalImageTexels - guard.texels_used) {
+    return refuse("the file's images together exceed the limit of " +
+                  std::to_string(gltf_limits::kMaxTotalImageTexels) + " pixels");
+  }
+  guard.texels_used += texels;
+  // tinygltf's default loader reads its options (tinygltf::LoadImageDataOption, which 2.7
+  // declares only inside its implementation) from user_data: one bool, preserve_channels.
+  struct {
+    bool preserve_channels = true;
+  } option;
+  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size,
+                                 &option);
 }
 
 const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions, const char* name) {
@@ -779,7 +968,7 @@ class Converter {
   std::map<std::tuple<int, TextureWrap, TextureWrap, TextureEncoding>, int> texture_map_;
 };
 
-SceneDescription load(const std::string& path) {
+SceneDescription load(const std::string& path, const LoadOptions& options) {
   SceneDescription scene;
   scene.source_path = path;
   const std::vector<unsigned char> bytes = read_file(path);
@@ -787,12 +976,15 @@ SceneDescription load(const std::string& path) {
   const std::string json_text =
       binary ? glb_json(bytes, path) : std::string(bytes.begin(), bytes.end());
   const nlohmann::json root = parse_json(json_text, path);
+  check_object_count(root, path);
   check_gltf_json(root, path, scene.warnings);
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
-  check_external_files(root, base.empty() ? std::filesystem::path(".") : base, path);
+  check_uris(root, base.empty() ? std::filesystem::path(".") : base, path, options);
 
   tinygltf::TinyGLTF loader;
   loader.SetPreserveImageChannels(true);
+  ImageGuard image_guard;
+  loader.SetImageLoader(load_image_checked, &image_guard);
   tinygltf::Model model;
   std::string err;
   std::string warn;
@@ -805,6 +997,7 @@ SceneDescription load(const std::string& path) {
     ok = loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(),
                                     static_cast<unsigned int>(json_text.size()), base_dir);
   }
+  if (!image_guard.element.empty()) fail(path, image_guard.element, image_guard.what);
   // tinygltf also reports some problems (such as a missing required property) in `err` while
   // returning true; the model is then incomplete, so both count as failure.
   if (!ok || !err.empty()) fail(path, "glTF", err.empty() ? "tinygltf failed to load" : err);
@@ -817,8 +1010,12 @@ SceneDescription load(const std::string& path) {
 }  // namespace
 
 SceneDescription load_gltf(const std::string& path) {
+  return load_gltf(path, LoadOptions());
+}
+
+SceneDescription load_gltf(const std::string& path, const LoadOptions& options) {
   try {
-    return load(path);
+    return load(path, options);
   } catch (const LoadError&) {
     throw;
   } catch (const std::exception& e) {

@@ -17,6 +17,17 @@ class LoadError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-SceneDescription load_gltf(const std::string& path);
+// How far the loader trusts the file. A default-constructed LoadOptions is the safe choice for
+// files from elsewhere.
+struct LoadOptions {
+  // Buffers and images may only come from the asset's folder (or below it): a downloaded file
+  // must not be able to read other files of the user's, such as "../../.ssh/id_rsa" or
+  // "/etc/passwd", into a texture. True lifts that for relative paths leaving the folder
+  // ("../textures/x.png", symlinks); absolute paths and file:// URIs are never resolved.
+  bool allow_external_paths = false;
+};
+
+SceneDescription load_gltf(const std::string& path, const LoadOptions& options);
+SceneDescription load_gltf(const std::string& path);  // default LoadOptions
 
 }  // namespace prism

@@ -24,6 +24,9 @@ PACKAGES=(
   # tests/cli/compare.sh opens the HTML report in headless Chromium (large, but it is the
   # only way to check the page as a browser draws it)
   chromium
+  # tests/cli/fuzz_smoke.sh builds the libFuzzer target over the glTF loader with clang's
+  # -fsanitize=fuzzer,address,undefined (fuzz/build.sh); libFuzzer's runtime is in clang-rt
+  clang libclang-rt-14-dev
   "$@"
 )
 

@@ -47,6 +47,22 @@ expect 1 "BoxTextured.gltf: .*buffers\[0\]" -- render "$BROKEN/MissingBin/BoxTex
 expect 1 "BoxWithInfinites.glb: accessors\[[0-9]+\]" -- render "$BROKEN/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb" -o "$TMP/a.exr"
 expect 1 "RecursiveNodes.gltf: nodes\[[0-9]+\]" -- render "$BROKEN/RecursiveNodes/RecursiveNodes.gltf" -o "$TMP/a.exr"
 
+# A buffer outside the scene's folder is refused unless --allow-external-paths.
+mkdir -p "$TMP/scene" "$TMP/elsewhere"
+printf '\0\0\0\0\0\0\0\0\0\0\0\0\0\0\200\077\0\0\0\0\0\0\0\0\0\0\0\0\0\0\200\077\0\0\0\0' >"$TMP/elsewhere/data.bin"
+cat >"$TMP/scene/tri.gltf" <<'GLTF'
+{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+ "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+ "buffers": [{"byteLength": 36, "uri": "../elsewhere/data.bin"}],
+ "bufferViews": [{"buffer": 0, "byteLength": 36}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                "min": [0, 0, 0], "max": [1, 1, 0]}]}
+GLTF
+expect 1 "tri.gltf: buffers\[0\].uri: .*outside" -- render "$TMP/scene/tri.gltf" -o "$TMP/a.exr"
+if ! "$PRISM" render "$TMP/scene/tri.gltf" -o "$TMP/ext.exr" --allow-external-paths -q 2>/dev/null; then
+  echo "FAIL: --allow-external-paths did not let the buffer load"; failures=$((failures + 1))
+fi
+
 if [[ -e "$TMP/a.exr" ]]; then
   echo "FAIL: a failed render left $TMP/a.exr behind"; failures=$((failures + 1))
 fi

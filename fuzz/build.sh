@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer target fuzz/gltf_loader_fuzz with Debian's clang, ASan and UBSan:
+#   bash fuzz/build.sh [OUT_DIR]        (default build-fuzzer/)
+# A plain clang command line rather than a CMake configuration: the fuzzer needs only
+# scene_io and header-only parts of the renderer, and the main build uses g++. tinygltf and
+# stb_image are compiled in from their headers so that they are instrumented as well.
+# Rebuilds only what changed, so tests/cli/fuzz_smoke.sh can call it every time.
+set -euo pipefail
+SRC=$(cd "$(dirname "$0")/.." && pwd)
+OUT=$(mkdir -p "${1:-$SRC/build-fuzzer}" && cd "${1:-$SRC/build-fuzzer}" && pwd)
+CXX=${CXX_FUZZ:-clang++}
+if ! command -v "$CXX" >/dev/null; then
+  echo "fuzz/build.sh: $CXX not found; run scripts/setup.sh (installs clang and libclang-rt-14-dev)" >&2
+  exit 1
+fi
+# -fsanitize=fuzzer-no-link everywhere but the final link, which adds libFuzzer's main().
+SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+FLAGS=(-std=c++20 -O1 -g $SAN -fsanitize=fuzzer-no-link -I"$SRC" -I/usr/include/Imath
+       -I/usr/include/stb -DNDEBUG)
+
+# compile SOURCE OBJECT EXTRA_FLAGS...: when the object is older than the source or any
+# project header (system headers only change with a package upgrade: delete OUT then).
+compile() {
+  local src=$1 obj=$2
+  shift 2
+  if [[ -f $obj ]] && [[ $obj -nt $src ]] &&
+     [[ -z $(find "$SRC/scene_io" "$SRC/renderer" -name '*.h' -newer "$obj" -print -quit) ]]; then
+    return 0
+  fi
+  echo "fuzz/build.sh: compiling $(basename "$src")"
+  "$CXX" "${FLAGS[@]}" "$@" -c "$src" -o "$obj"
+}
+
+pids=()
+compile "$SRC/fuzz/tinygltf_impl.cpp" "$OUT/tinygltf_impl.o" -w & pids+=($!)
+for f in gltf_accessors gltf_json_check gltf_loader; do
+  compile "$SRC/scene_io/$f.cpp" "$OUT/$f.o" -Wall -Wextra -Werror & pids+=($!)
+done
+compile "$SRC/fuzz/gltf_loader_fuzz.cpp" "$OUT/gltf_loader_fuzz.o" -Wall -Wextra -Werror & pids+=($!)
+for p in "${pids[@]}"; do wait "$p"; done
+
+"$CXX" -fsanitize=fuzzer $SAN "$OUT"/*.o -o "$OUT/gltf_loader_fuzz"
+echo "$OUT/gltf_loader_fuzz"
