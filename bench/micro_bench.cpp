@@ -4,6 +4,7 @@
 //     same rays; then the three modes through EmbreeScene::intersect, which adds Prism's hit
 //     reconstruction;
 //   - offset_ray_origin, the self-intersection offset every secondary ray pays;
+//   - the pixel sample position: Owen-scrambled Sobol against independent hashing;
 //   - shade_local on prepared hits of scenes/spheres.gltf, without and with shadow rays;
 //   - one 16x16 tile of scenes/spheres.gltf (at the centre, and where whitted casts the most
 //     rays) through each integrator's render_tile.
@@ -28,6 +29,7 @@
 #include "renderer/embree_scene.h"
 #include "renderer/math.h"
 #include "renderer/render_scene.h"
+#include "renderer/sampler.h"
 #include "renderer/scene_defaults.h"
 #include "renderer/sphere_geometry.h"
 #include "renderer/sphere_intersect.h"
@@ -232,6 +234,30 @@ void BM_OffsetRayOrigin(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(points.size()));
 }
 BENCHMARK(BM_OffsetRayOrigin);
+
+// The pixel sample every camera ray pays for when spp > 1: the Owen-scrambled Sobol point
+// (renderer/sampler.h) against the independent hash it replaced (two sample_uniform calls).
+// items_per_second is 2D samples per second.
+void BM_PixelSample(benchmark::State& state) {
+  const bool sobol = state.range(0) != 0;
+  for (auto _ : state) {
+    float sum = 0.0f;
+    for (uint64_t pixel = 0; pixel < 64; ++pixel) {
+      for (uint32_t k = 0; k < 64; ++k) {
+        if (sobol) {
+          const PixelSample2D p = sobol_owen_pixel_sample(pixel, k);
+          sum += p.x + p.y;
+        } else {
+          sum += sample_uniform(pixel, k, 0) + sample_uniform(pixel, k, 1);
+        }
+      }
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * 64 * 64);
+  state.SetLabel(sobol ? "sobol-owen" : "independent");
+}
+BENCHMARK(BM_PixelSample)->Arg(0)->Arg(1);
 
 // ---------------------------------------------------------------------------------------
 // Shading and the tile loop on the shipped default scene.

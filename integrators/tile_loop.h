@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "renderer/integrator.h"
-#include "renderer/random.h"
+#include "renderer/sampler.h"
 
 namespace prism {
 
@@ -32,11 +32,14 @@ void render_tile_with(const RenderContext& context, const TileRect& tile, Image*
       PixelSums sums = pass.sums ? pass.sums[pixel_index] : PixelSums{};
       for (int s = pass.first; s < end; ++s) {
         // One sample goes through the pixel centre (the lecture's view ray); more are
-        // spread uniformly over the pixel (a box filter).
-        const float jx = spp == 1 ? 0.5f : sample_uniform(pixel_index, s, 0);
-        const float jy = spp == 1 ? 0.5f : sample_uniform(pixel_index, s, 1);
+        // spread over the pixel (a box filter) by the pixel's Owen-scrambled Sobol points,
+        // which stratify where independent jitter clumps (renderer/sampler.h). Sample s
+        // depends only on (pixel, s), so pass splitting and threads leave the image alone.
+        const PixelSample2D j =
+            spp == 1 ? PixelSample2D{0.5f, 0.5f}
+                     : sobol_owen_pixel_sample(pixel_index, static_cast<uint32_t>(s));
         const Ray ray =
-            context.camera.generate_ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+            context.camera.generate_ray(static_cast<float>(x) + j.x, static_cast<float>(y) + j.y);
         ++counters->camera;
         const SampleResult r = radiance(ray, counters);
         if (!std::isfinite(r.radiance.x) || !std::isfinite(r.radiance.y) ||

@@ -46,7 +46,8 @@ TEST(AnalyticReference, FurnaceIsExactlyOneHalfInEverySphereMode) {
   ASSERT_EQ(scene.lights.size(), 1u);
   RenderSettings settings;
   settings.width = settings.height = 64;
-  for (IntegratorKind kind : {IntegratorKind::phong, IntegratorKind::shadow, IntegratorKind::whitted}) {
+  for (IntegratorKind kind :
+       {IntegratorKind::phong, IntegratorKind::shadow, IntegratorKind::whitted}) {
     for (const char* mode : {"analytic", "embree-points", "mesh:4"}) {
       SCOPED_TRACE(std::string(to_string(kind)) + " " + mode);
       GeometryOptions options;
@@ -72,8 +73,10 @@ TEST(AnalyticReference, FurnaceIsExactlyOneHalfInEverySphereMode) {
 }
 
 // The disc's covered area, the sum of alpha, converges to pi r^2 pixels as samples spread
-// over each pixel: every silhouette pixel's coverage is a mean of spp Bernoulli samples, so
-// the error's standard deviation is at most sqrt(boundary pixels / (4 spp)).
+// over each pixel. The bound is the one for independent samples (each silhouette pixel's
+// coverage a mean of spp Bernoulli trials, so the error's standard deviation is at most
+// sqrt(boundary pixels / (4 spp))); the stratified Owen-scrambled Sobol samples the renderer
+// uses (renderer/sampler.h) can only do better, which tests/sampler_test.cpp measures.
 TEST(AnalyticReference, DiscAreaConvergesToPiRSquared) {
   SceneDescription scene;
   scene.materials.push_back(testing::lambert_like(0.5f));
@@ -137,7 +140,8 @@ TEST(AnalyticReference, MirrorSphereReflectsTheEnvironmentItFaces) {
       p.material = index + 1;
       mesh.primitives.push_back(p);
       scene.meshes.push_back(mesh);
-      scene.instances.push_back(MeshInstance{static_cast<int>(scene.meshes.size()) - 1, M44d(), ""});
+      scene.instances.push_back(
+          MeshInstance{static_cast<int>(scene.meshes.size()) - 1, M44d(), ""});
     }
   }
   scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.0));
