@@ -47,6 +47,7 @@
 #include "integrators/integrators.h"
 #include "renderer/camera.h"
 #include "renderer/colour.h"
+#include "renderer/embree_ray.h"
 #include "renderer/lights.h"
 #include "renderer/math.h"
 #include "renderer/render.h"
@@ -274,22 +275,6 @@ class RawScene {
 // ---------------------------------------------------------------------------------------
 // The rays.
 
-RTCRayHit to_rayhit(const Ray& ray) {
-  RTCRayHit rh{};
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = ray.tnear;
-  rh.ray.tfar = ray.tfar;
-  rh.ray.mask = 0xffffffffu;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  return rh;
-}
-
 // Pixel centres in the order the tile loop visits them (16x16 tiles, rows within a tile),
 // so that packets of consecutive rays are as coherent as Prism's own ray order.
 std::vector<Ray> camera_rays(const Camera& camera, int width, int height) {
@@ -312,7 +297,7 @@ std::vector<Ray> shadow_rays(const RawScene& raw, const std::vector<Ray>& camera
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   for (const Ray& ray : camera) {
-    RTCRayHit rh = to_rayhit(ray);
+    RTCRayHit rh = to_rtc_rayhit(ray);
     rtcIntersect1(raw.scene(), &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
     ++*hits;
@@ -421,9 +406,9 @@ class RaySet {
   static void set(Packet* p, size_t k, const Ray& ray) {
     if constexpr (N == 1) {
       if constexpr (std::is_same_v<Packet, RTCRayHit>) {
-        *p = to_rayhit(ray);
+        *p = to_rtc_rayhit(ray);
       } else {
-        *p = to_rayhit(ray).ray;
+        *p = to_rtc_ray(ray);
       }
     } else {
       auto& r = [&]() -> auto& {

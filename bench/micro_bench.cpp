@@ -26,6 +26,7 @@
 #include "integrators/local_shading.h"
 #include "renderer/camera.h"
 #include "renderer/colour.h"
+#include "renderer/embree_ray.h"
 #include "renderer/embree_scene.h"
 #include "renderer/math.h"
 #include "renderer/render_scene.h"
@@ -135,18 +136,7 @@ class RawSphereScene {
   bool intersect(const Ray& ray) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    rh.ray.org_x = ray.origin.x;
-    rh.ray.org_y = ray.origin.y;
-    rh.ray.org_z = ray.origin.z;
-    rh.ray.dir_x = ray.direction.x;
-    rh.ray.dir_y = ray.direction.y;
-    rh.ray.dir_z = ray.direction.z;
-    rh.ray.tnear = ray.tnear;
-    rh.ray.tfar = ray.tfar;
-    rh.ray.mask = 0xffffffffu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = to_rtc_rayhit(ray);
     rtcIntersect1(scene_, &context, &rh);
     return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
   }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "renderer/embree_ray.h"
 #include "renderer/math.h"
 #include "renderer/sphere_mesh.h"
 
@@ -422,21 +423,7 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
   if (!ray_is_valid(ray)) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = ray.tnear;
-  rh.ray.tfar = ray.tfar;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = 0xffffffffu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = to_rtc_rayhit(ray);
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
@@ -505,19 +492,7 @@ bool EmbreeScene::occluded(const Ray& ray) const {
   if (!ray_is_valid(ray)) return true;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay r;
-  r.org_x = ray.origin.x;
-  r.org_y = ray.origin.y;
-  r.org_z = ray.origin.z;
-  r.dir_x = ray.direction.x;
-  r.dir_y = ray.direction.y;
-  r.dir_z = ray.direction.z;
-  r.tnear = ray.tnear;
-  r.tfar = ray.tfar;
-  r.time = 0.0f;
-  r.mask = 0xffffffffu;
-  r.id = 0;
-  r.flags = 0;
+  RTCRay r = to_rtc_ray(ray);
   rtcOccluded1(scene_, &context, &r);
   return r.tfar < 0.0f;
 }

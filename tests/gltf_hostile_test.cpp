@@ -10,6 +10,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include <OpenImageIO/strutil.h>
 #include <nlohmann/json.hpp>
 
 #include "scene_io/gltf_limits.h"
@@ -21,19 +23,10 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
+// Library base64 (OpenImageIO's), for the data URIs of hand-made files.
 std::string base64(const std::vector<unsigned char>& data) {
-  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    uint32_t v = uint32_t(data[i]) << 16;
-    if (i + 1 < data.size()) v |= uint32_t(data[i + 1]) << 8;
-    if (i + 2 < data.size()) v |= data[i + 2];
-    out += alphabet[(v >> 18) & 63];
-    out += alphabet[(v >> 12) & 63];
-    out += i + 1 < data.size() ? alphabet[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? alphabet[v & 63] : '=';
-  }
-  return out;
+  return OIIO::Strutil::base64_encode(
+      OIIO::string_view(reinterpret_cast<const char*>(data.data()), data.size()));
 }
 
 std::vector<unsigned char> bytes_of(const std::vector<float>& values) {

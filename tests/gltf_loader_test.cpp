@@ -12,6 +12,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include <OpenImageIO/strutil.h>
 #include <nlohmann/json.hpp>
 
 #ifndef PRISM_ASSIMP_GLTF2_DIR
@@ -254,19 +256,10 @@ TEST(GltfLoaderSamples, ZeroNormalsAreDroppedWithAWarning) {
 // ---------------------------------------------------------------------------------------------
 // Hand-made files.
 
+// Library base64 (OpenImageIO's), for the data URIs of hand-made files.
 std::string base64(const std::vector<unsigned char>& data) {
-  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    uint32_t v = uint32_t(data[i]) << 16;
-    if (i + 1 < data.size()) v |= uint32_t(data[i + 1]) << 8;
-    if (i + 2 < data.size()) v |= data[i + 2];
-    out += alphabet[(v >> 18) & 63];
-    out += alphabet[(v >> 12) & 63];
-    out += i + 1 < data.size() ? alphabet[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? alphabet[v & 63] : '=';
-  }
-  return out;
+  return OIIO::Strutil::base64_encode(
+      OIIO::string_view(reinterpret_cast<const char*>(data.data()), data.size()));
 }
 
 // Builds a glTF document with one data-URI buffer.
@@ -681,9 +674,9 @@ TEST(GltfLoaderHandMade, ValidationErrorsNameTheElement) {
       {"bad_specular_colour.gltf",
        [](Builder& b) {
          b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}}})}});
-         b.doc["materials"] = json::array({{{"extensions",
-                                             {{"KHR_materials_specular",
-                                               {{"specularColorFactor", {1, -1, 1}}}}}}}});
+         b.doc["materials"] =
+             json::array({{{"extensions",
+                            {{"KHR_materials_specular", {{"specularColorFactor", {1, -1, 1}}}}}}}});
        },
        "materials[0].extensions.KHR_materials_specular.specularColorFactor[1]"},
   };
