@@ -65,6 +65,12 @@ std::string glb_json(const std::vector<unsigned char>& bytes, const std::string&
          "declared length " + std::to_string(length) + " exceeds the file size " +
              std::to_string(bytes.size()));
   }
+  // Checked before `length - 20` below, which would wrap around for a smaller length and let
+  // a huge chunk length through (found by the fuzzer: fuzz/, docs/fuzzing.md).
+  if (length < 20) {
+    fail(file, "GLB header",
+         "declared length " + std::to_string(length) + " is shorter than the 20-byte header");
+  }
   const uint32_t chunk_length = le32(bytes.data() + 12);
   if (le32(bytes.data() + 16) != 0x4E4F534Au) fail(file, "GLB", "first chunk is not JSON");
   if (chunk_length > length - 20) fail(file, "GLB", "JSON chunk exceeds the file");

@@ -338,5 +338,25 @@ TEST(GltfHostile, DeeplyNestedJsonIsRefused) {
   EXPECT_EQ(load_gltf(path).meshes.size(), 1u);
 }
 
+// Found by the fuzzer (docs/fuzzing.md): a GLB whose header declares a total length under the
+// 20 bytes of header and chunk header once made `length - 20` wrap around, and the loader
+// copied 285 MB past the end of the file.
+TEST(GltfHostile, GlbDeclaringALengthShorterThanItsHeaderIsRefused) {
+  const fs::path path = fs::path(::testing::TempDir()) / "short_length.glb";
+  const std::string json_text = R"({"asset":{"version":"2.0"}})";
+  std::string bytes("glTF", 4);
+  auto put32 = [&](uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes += static_cast<char>((v >> (8 * i)) & 0xff);
+  };
+  put32(2);           // version
+  put32(0);           // declared total length: shorter than any header
+  put32(0x11080000);  // JSON chunk length, as in the fuzzer's input
+  put32(0x4E4F534A);  // "JSON"
+  bytes += json_text;
+  std::ofstream(path, std::ios::binary) << bytes;
+  const std::string message = load_error(path.string());
+  EXPECT_CONTAINS(message, ": GLB header: declared length 0 is shorter than the 20-byte header");
+}
+
 }  // namespace
 }  // namespace prism
