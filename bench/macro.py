@@ -22,18 +22,10 @@ import re
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from benchlib import ROOT, find_prism
 ASSIMP = "/usr/share/assimp/models/glTF2"
 
 
-def find_prism():
-    if os.environ.get("PRISM"):
-        return os.environ["PRISM"]
-    for d in ("build-bench", "build"):
-        p = os.path.join(ROOT, d, "apps/prism")
-        if os.path.exists(p):
-            return p
-    sys.exit("macro.py: no prism binary (build it, or set $PRISM)")
 
 
 def scenes(generated):
@@ -73,7 +65,7 @@ def main():
     parser.add_argument("--threads", type=int, default=os.cpu_count())
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    prism = find_prism()
+    prism = find_prism("macro.py")
     commands = []
     rows = []
     for scene in scenes(args.generated):

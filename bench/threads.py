@@ -17,18 +17,10 @@ import statistics
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from benchlib import ROOT, find_prism
 ENGINE = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"
 
 
-def find_prism():
-    if os.environ.get("PRISM"):
-        return os.environ["PRISM"]
-    for d in ("build-bench", "build"):
-        p = os.path.join(ROOT, d, "apps/prism")
-        if os.path.exists(p):
-            return p
-    sys.exit("threads.py: no prism binary (build it, or set $PRISM)")
 
 
 def main():
@@ -40,7 +32,7 @@ def main():
     parser.add_argument("--integrator", default="whitted")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    prism = find_prism()
+    prism = find_prism("threads.py")
     cores = os.cpu_count()
     counts = [1, 2] + ([cores] if cores > 2 else [])
     scenes = [ENGINE, os.path.join(ROOT, "scenes/spheres.gltf")]
