@@ -314,7 +314,7 @@ void BM_ShadeLocal(benchmark::State& state) {
   for (auto _ : state) {
     V3f sum(0.0f);
     for (const PreparedHit& p : hits) {
-      const SurfaceResponse surface = evaluate(s.scene->material(p.hit.material), p.hit.uv);
+      const SurfaceResponse surface = evaluate(s.scene->material(p.hit.material), p.hit);
       sum += shade_local<Shadows>(context, p.hit, surface, p.to_viewer, &counters);
     }
     benchmark::DoNotOptimize(sum);

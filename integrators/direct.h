@@ -17,7 +17,7 @@ class DirectLightIntegrator final : public Integrator {
                    RayCounters* counters) const override {
     render_tile_shading_hits(
         context, tile, image, counters, [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
-          const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit.uv);
+          const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
           return surface.emission + shade_local<Shadows>(context, hit, surface, -ray.direction, c);
         });
   }

@@ -22,7 +22,7 @@ template <bool Shadows>
 Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
                        const SurfaceResponse& surface, const Imath::V3f& to_viewer,
                        RayCounters* counters) {
-  const V3f n = face_forward(hit.shading_normal, to_viewer);
+  const V3f n = face_forward(surface.shading_normal, to_viewer);
   V3f radiance =
       hadamard(context.settings.ambient, surface.diffuse_albedo + surface.specular_colour);
   const float lobe_norm = (surface.phong_exponent + 2.0f) * (0.5f * kInvPi);

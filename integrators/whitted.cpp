@@ -44,12 +44,12 @@ class WhittedIntegrator final : public Integrator {
 
   static V3f shade(const RenderContext& context, const Ray& ray, const SurfaceHit& hit, int depth,
                    RayCounters* counters) {
-    const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit.uv);
+    const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
     const V3f to_viewer = -ray.direction;
     V3f radiance = surface.emission + shade_local<true>(context, hit, surface, to_viewer, counters);
     if (depth >= context.settings.max_depth) return radiance;
 
-    const V3f n = face_forward(hit.shading_normal, to_viewer);
+    const V3f n = face_forward(surface.shading_normal, to_viewer);
     const V3f outside = face_forward(hit.geometric_normal, to_viewer);  // the viewer's side
     const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(to_viewer, n)));
 

@@ -46,7 +46,8 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
   return m;
 }
 
-SurfaceResponse evaluate(const Material& material, const Imath::V2f& uv) {
+SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
+  const Imath::V2f& uv = hit.uv;
   Rgb base = material.base_colour;
   if (material.base_colour_texture) {
     const Imath::V4f t = material.base_colour_texture->sample(uv);
@@ -84,6 +85,7 @@ SurfaceResponse evaluate(const Material& material, const Imath::V2f& uv) {
   r.ior = material.ior;
   r.transmission_tint = base;
   r.emission = emission;
+  r.shading_normal = hit.shading_normal;
   return r;
 }
 

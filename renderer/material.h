@@ -9,6 +9,7 @@
 #include <Imath/ImathVec.h>
 
 #include "renderer/scene_description.h"
+#include "renderer/surface_hit.h"
 #include "renderer/texture.h"
 
 namespace prism {
@@ -47,13 +48,17 @@ struct SurfaceResponse {
   float ior;
   Rgb transmission_tint;  // colour of light passing through (the base colour)
   Rgb emission;           // emitted radiance
+  // Unit, on the geometric normal's side: the hit's shading normal, bent by the material's
+  // normal map where it has one. Integrators shade with this, not SurfaceHit's.
+  Imath::V3f shading_normal;
 };
 
 Material make_material(const MaterialDescription& description, const std::vector<Texture>& textures,
                        const ColourPipeline& colour);
 
-// Evaluates the material at a point with texture coordinates `uv` (ignored when untextured).
-SurfaceResponse evaluate(const Material& material, const Imath::V2f& uv);
+// Evaluates the material at a hit: its textures at the hit's texture coordinates (not read
+// when untextured) and its normal map.
+SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit);
 
 // The Phong exponent that matches a glTF roughness: the Blinn-Phong/Beckmann correspondence
 // n = 2 / alpha^2 - 2 with alpha = roughness^2, capped at kMaxPhongExponent.

@@ -89,7 +89,7 @@ TEST(MaterialMapping, WhiteSurfaceNeverReflectsMoreThanItReceives) {
         m.metallic = metallic;
         m.transmission = transmission;
         m.ior = ior;
-        const SurfaceResponse r = evaluate(m, Imath::V2f(0.0f));
+        const SurfaceResponse r = evaluate(m, SurfaceHit{});
         // Diffuse + specular + transmitted at normal incidence (the transmissive part
         // refracts 1 - F of its share), at most 1 in every channel.
         const float total =
@@ -102,7 +102,7 @@ TEST(MaterialMapping, WhiteSurfaceNeverReflectsMoreThanItReceives) {
   // Plain white dielectric: (1 - 0.04) diffuse + 0.04 specular = 1.
   Material white;
   white.metallic = 0.0f;
-  const SurfaceResponse r = evaluate(white, Imath::V2f(0.0f));
+  const SurfaceResponse r = evaluate(white, SurfaceHit{});
   EXPECT_NEAR(r.diffuse_albedo.x + r.specular_colour.x, 1.0f, 1e-6f);
   EXPECT_NEAR(r.specular_colour.x, 0.04f, 1e-6f);
 }

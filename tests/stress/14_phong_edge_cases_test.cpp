@@ -63,6 +63,7 @@ SurfaceResponse surface_with_exponent(float n) {
   s.diffuse_albedo = V3f(static_cast<float>(kRhoD));
   s.specular_colour = V3f(static_cast<float>(kKs));
   s.phong_exponent = n;
+  s.shading_normal = V3f(0.0f, 1.0f, 0.0f);  // the surface's normal, as the hit's
   return s;
 }
 
