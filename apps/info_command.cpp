@@ -1,6 +1,9 @@
 #include "apps/info_command.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -13,10 +16,12 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/render_setup.h"
+#include "renderer/embree_scene.h"
 #include "renderer/scene_defaults.h"
 #include "renderer/scene_features.h"
 #include "renderer/sphere_geometry.h"
 #include "scene_io/gltf_loader.h"
+#include "scene_io/gltf_scene_select.h"
 
 namespace prism {
 namespace {
@@ -84,20 +89,27 @@ std::string material_name(const SceneDescription& scene, int index) {
 // them and forgets them), so they are read from the file's JSON, after the loader has
 // accepted it. A .glb holds its JSON in the first chunk.
 nlohmann::json read_gltf_json(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {
-    const auto u32 = [&](size_t at) {
-      return static_cast<uint32_t>(static_cast<unsigned char>(bytes[at])) |
-             static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 1])) << 8 |
-             static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 2])) << 16 |
-             static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 3])) << 24;
-    };
-    const size_t length = u32(12);
-    if (length > bytes.size() - 20) return nlohmann::json();
-    return nlohmann::json::parse(bytes.begin() + 20, bytes.begin() + 20 + length, nullptr, false);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in.tellg();
+  if (size <= 0) return nlohmann::json();
+  std::string bytes(static_cast<size_t>(std::min<std::streamoff>(size, 20)), '\0');
+  in.seekg(0);
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0) {
+    const size_t head = bytes.size();
+    bytes.resize(static_cast<size_t>(size));
+    in.read(bytes.data() + head, static_cast<std::streamsize>(bytes.size() - head));
+    return nlohmann::json::parse(bytes, nullptr, false);
   }
-  return nlohmann::json::parse(bytes, nullptr, false);
+  // A GLB's JSON is its first chunk: the binary buffer after it is not read.
+  const auto byte = [&](size_t at) {
+    return static_cast<uint32_t>(static_cast<unsigned char>(bytes[at]));
+  };
+  const size_t length = byte(12) | byte(13) << 8 | byte(14) << 16 | byte(15) << 24;
+  if (length > static_cast<size_t>(size) - 20) return nlohmann::json();
+  bytes.resize(20 + length);
+  in.read(bytes.data() + 20, static_cast<std::streamsize>(length));
+  return nlohmann::json::parse(bytes.begin() + 20, bytes.end(), nullptr, false);
 }
 
 std::string extension_list(const nlohmann::json& root, const char* key) {
@@ -106,6 +118,29 @@ std::string extension_list(const nlohmann::json& root, const char* key) {
   for (const auto& name : root[key])
     if (name.is_string()) s += (s.empty() ? "" : ", ") + name.get<std::string>();
   return s.empty() ? "none" : s;
+}
+
+// Every scene of the file, marking the default and the one loaded (`--scene`).
+void print_scenes(const nlohmann::json& root, const InfoOptions& o) {
+  if (!root.is_object() || !root.contains("scenes") || !root["scenes"].is_array() ||
+      root["scenes"].empty()) {
+    std::printf("scenes: 0 (every root node loaded)\n");
+    return;
+  }
+  const nlohmann::json& scenes = root["scenes"];
+  std::vector<std::string> names;
+  for (const auto& s : scenes) names.push_back(s.value("name", std::string()));
+  const size_t default_scene = root.contains("scene") ? root["scene"].get<size_t>() : size_t{0};
+  // The loader accepted the file with this --scene, so the selection cannot fail here.
+  const size_t loaded =
+      o.scene.empty() ? default_scene : gltf_detail::select_scene(names, o.scene, o.scene_path);
+  std::printf("scenes: %zu (loaded: %zu)\n", scenes.size(), loaded);
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    const size_t roots = scenes[i].contains("nodes") ? scenes[i]["nodes"].size() : 0;
+    std::printf("  [%zu] %s: %zu root node%s%s%s\n", i,
+                names[i].empty() ? "(unnamed)" : names[i].c_str(), roots, roots == 1 ? "" : "s",
+                i == default_scene ? ", default" : "", i == loaded ? ", loaded" : "");
+  }
 }
 
 void print_meshes(const SceneDescription& scene) {
@@ -222,6 +257,16 @@ void print_cameras(const SceneDescription& scene) {
   }
 }
 
+// Meshes that `prism render --detect-spheres` would render as analytic spheres.
+void print_sphere_meshes(const SceneDescription& scene, const SphereDetectionOptions& options) {
+  const std::vector<SphereCandidate> found = find_sphere_meshes(scene, options);
+  std::printf("sphere-shaped meshes (tolerance %g): %zu\n", options.tolerance, found.size());
+  for (const SphereCandidate& c : found)
+    std::printf("  %s%s%s\n", describe_sphere_candidate(scene, c).c_str(),
+                c.blocker == SphereReplaceBlocker::none ? "" : "; --detect-spheres keeps it: ",
+                to_string(c.blocker));
+}
+
 void print_spheres(const SceneDescription& scene) {
   std::printf("spheres: %zu\n", scene.spheres.size());
   for (size_t i = 0; i < scene.spheres.size(); ++i) {
@@ -234,24 +279,33 @@ void print_spheres(const SceneDescription& scene) {
 
 int run(const InfoOptions& o) {
   const SphereOptions spheres = parse_spheres_option(o.spheres, "--spheres");
+  const SphereDetectionOptions sphere_detection = check_sphere_detection_flags(o.sphere_detection);
   SceneDescription scene;
+  using Clock = std::chrono::steady_clock;
+  const auto load_start = Clock::now();
   try {
     LoadOptions load_options;
     load_options.allow_external_paths = o.allow_external_paths;
-    scene = load_gltf(o.scene_path, load_options);
+    load_options.scene = o.scene;
+    scene = load_selected_scene(o.scene_path, load_options);
   } catch (const LoadError&) {
     throw;  // already "<file>: <element>: <what>"
+  } catch (const UsageError&) {
+    throw;  // --scene names no scene of the file
   } catch (const std::exception& e) {
     throw std::runtime_error(o.scene_path + ": " + e.what());
   }
+  const double load_seconds = std::chrono::duration<double>(Clock::now() - load_start).count();
   std::printf("file: %s\n", o.scene_path.c_str());
+  const nlohmann::json root = read_gltf_json(o.scene_path);
+  print_scenes(root, o);
   print_meshes(scene);
   print_materials(scene);
   print_textures(scene);
   print_lights(scene);
   print_cameras(scene);
   print_spheres(scene);
-  const nlohmann::json root = read_gltf_json(o.scene_path);
+  print_sphere_meshes(scene, sphere_detection);
   std::printf("extensions: used %s; required %s\n", extension_list(root, "extensionsUsed").c_str(),
               extension_list(root, "extensionsRequired").c_str());
   // The feature set as `prism render` derives it: with the default camera and light that a
@@ -261,6 +315,23 @@ int run(const InfoOptions& o) {
               to_string(derive_scene_features(scene, spheres)).c_str());
   std::printf("warnings: %zu\n", scene.warnings.size());
   for (const std::string& w : scene.warnings) std::printf("  %s\n", w.c_str());
+  if (o.timing) {
+    // The BVH as `prism render` builds it (default options: world origin 0, no textures,
+    // which only MASK/BLEND filters read at render time).
+    const auto build_start = Clock::now();
+    const EmbreeScene geometry(scene, GeometryOptions{});
+    const double build_seconds = std::chrono::duration<double>(Clock::now() - build_start).count();
+    struct rusage usage {};
+    getrusage(RUSAGE_SELF, &usage);
+    const size_t triangles = geometry.statistics().triangles;
+    const double peak_bytes = static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux: KiB
+    std::printf(
+        "timing: load %.3f s, BVH build %.3f s, total %.3f s; %s triangles; peak memory "
+        "%.1f MiB (%.0f bytes per triangle)\n",
+        load_seconds, build_seconds, load_seconds + build_seconds, with_commas(triangles).c_str(),
+        peak_bytes / (1024.0 * 1024.0),
+        triangles > 0 ? peak_bytes / static_cast<double>(triangles) : 0.0);
+  }
   return 0;
 }
 
@@ -274,6 +345,10 @@ CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
                   "Sphere mode the feature set assumes: analytic | mesh[:LEVEL] | embree-points")
       ->capture_default_str();
   add_allow_external_paths_flag(cmd, &o->allow_external_paths);
+  add_sphere_detection_options(cmd, &o->sphere_detection, false);
+  add_scene_select_option(cmd, &o->scene);
+  cmd->add_flag("--timing", o->timing,
+                "Also time loading and the BVH build, and report peak memory per triangle");
   return cmd;
 }
 

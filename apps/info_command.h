@@ -7,12 +7,17 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/render_setup.h"
+
 namespace prism {
 
 struct InfoOptions {
   std::string scene_path;
   std::string spheres = "analytic";  // the sphere mode the feature set assumes
   bool allow_external_paths = false;
+  SphereDetectionFlags sphere_detection;  // --sphere-tolerance for the sphere-shaped meshes
+  std::string scene;                      // glTF scene name or index, empty = the file's default
+  bool timing = false;                    // also time loading and the BVH build
 };
 
 // Adds the `info` subcommand to `app`, filling `options` when it is parsed.

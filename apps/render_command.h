@@ -15,10 +15,17 @@ struct RenderOptions {
   std::string preview_path;
   std::string integrator = "whitted";
   int spp = 1;
+  // Adaptive sampling (docs/sampling.md): 0 = off; with either, spp is the maximum.
+  double target_error = 0.0;
+  double time_limit = 0.0;
+  int min_spp = 8;
+  std::string sample_count_path;  // also write each pixel's sample count as an EXR
   std::string spheres = "analytic";
-  std::string reference_path;  // measure the error against this image after every pass
+  SphereDetectionFlags sphere_detection;  // --detect-spheres, --sphere-tolerance
+  std::string reference_path;             // measure the error against this image after every pass
   bool half = false;
   bool robust = false;
+  bool general_path = false;  // RenderSettings::specialise = false
   bool quiet = false;
   bool verbose = false;
 };

@@ -55,6 +55,7 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
   cmd->add_option(
       "--res", o->resolution,
       "Image size WIDTHxHEIGHT (default 640x480, or 480 high at the camera's aspect ratio)");
+  add_scene_select_option(cmd, &o->scene);
   cmd->add_option("--camera", o->camera, "Camera name or index (default: the first)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
       ->check(CLI::Range(0, 1024))
@@ -70,6 +71,19 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
   cmd->add_option("--background", o->background, "Radiance of rays that leave the scene")
       ->capture_default_str();
   add_allow_external_paths_flag(cmd, &o->allow_external_paths);
+}
+
+void add_scene_select_option(CLI::App* cmd, std::string* scene) {
+  cmd->add_option("--scene", *scene,
+                  "glTF scene to load, by name or index (default: the file's `scene`, else 0)");
+}
+
+SceneDescription load_selected_scene(const std::string& path, const LoadOptions& options) {
+  try {
+    return load_gltf(path, options);
+  } catch (const SceneSelectionError& e) {
+    throw UsageError(std::string("--scene ") + e.what());
+  }
 }
 
 void add_allow_external_paths_flag(CLI::App* cmd, bool* allow) {
@@ -108,7 +122,8 @@ SceneSetup check_scene_options(const SceneOptions& o) {
 void load_scene(const SceneOptions& o, SceneSetup* setup) {
   LoadOptions load_options;
   load_options.allow_external_paths = o.allow_external_paths;
-  setup->scene = load_gltf(o.scene_path, load_options);
+  load_options.scene = o.scene;
+  setup->scene = load_selected_scene(o.scene_path, load_options);
   add_scene_defaults(&setup->scene);
   for (const std::string& w : setup->scene.warnings)
     std::fprintf(stderr, "prism: warning: %s: %s\n", o.scene_path.c_str(), w.c_str());
@@ -133,6 +148,53 @@ SphereOptions parse_spheres_option(const std::string& text, const std::string& o
   if (!parse_sphere_options(text, &spheres, &error))
     throw UsageError(option + " " + text + ": " + error);
   return spheres;
+}
+
+void add_sphere_detection_options(CLI::App* cmd, SphereDetectionFlags* flags, bool with_replace) {
+  if (with_replace)
+    cmd->add_flag(
+        "--detect-spheres", flags->replace,
+        "Render meshes whose vertices lie on a sphere as analytic spheres (and say which)");
+  cmd->add_option(
+         "--sphere-tolerance", flags->tolerance,
+         "Largest distance of a vertex from the fitted sphere, relative to its radius, for "
+         "a mesh to count as a sphere")
+      ->capture_default_str();
+}
+
+SphereDetectionOptions check_sphere_detection_flags(const SphereDetectionFlags& flags) {
+  if (!std::isfinite(flags.tolerance) || flags.tolerance <= 0.0 || flags.tolerance >= 0.1)
+    throw UsageError("--sphere-tolerance: must be a relative deviation above 0 and below 0.1");
+  SphereDetectionOptions options;
+  options.tolerance = flags.tolerance;
+  return options;
+}
+
+std::string describe_sphere_candidate(const SceneDescription& scene, const SphereCandidate& c) {
+  const std::string& mesh = scene.meshes[static_cast<size_t>(c.mesh)].name;
+  const std::string& node = scene.instances[c.instance].node_name;
+  char numbers[160];
+  std::snprintf(numbers, sizeof numbers, ": centre (%.6g, %.6g, %.6g), radius %.6g, deviation %.3g",
+                c.centre.x, c.centre.y, c.centre.z, c.radius, c.deviation);
+  return "mesh [" + std::to_string(c.mesh) + "] '" + mesh + "' (node '" + node + "')" + numbers;
+}
+
+void replace_detected_spheres(const SphereDetectionOptions& options, const std::string& scene_path,
+                              SceneDescription* scene) {
+  const std::vector<SphereCandidate> candidates = find_sphere_meshes(*scene, options);
+  // Described before the replacement removes their instances.
+  std::vector<std::string> lines;
+  for (const SphereCandidate& c : candidates)
+    lines.push_back(c.blocker == SphereReplaceBlocker::none
+                        ? "replaced " + describe_sphere_candidate(*scene, c) +
+                              " by an analytic sphere"
+                        : "kept " + describe_sphere_candidate(*scene, c) +
+                              " as a mesh: " + to_string(c.blocker));
+  const size_t replaced = replace_sphere_meshes(scene, candidates).size();
+  for (const std::string& line : lines)
+    std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", scene_path.c_str(), line.c_str());
+  std::fprintf(stderr, "prism: --detect-spheres: %s: %zu mesh%s replaced\n", scene_path.c_str(),
+               replaced, replaced == 1 ? "" : "es");
 }
 
 void check_output_path(const std::string& path, const char* extension, const char* option) {
@@ -180,6 +242,19 @@ RenderMetadata render_metadata(const SceneOptions& options, const SceneSetup& se
                     {"raysReflection", std::to_string(result.rays.reflection)},
                     {"raysRefraction", std::to_string(result.rays.refraction)},
                     {"discardedSamples", std::to_string(result.rays.discarded_samples)}};
+  const RenderSettings& s = setup.settings;
+  if (s.adaptive()) {  // docs/sampling.md: spp above is then the most a pixel took
+    char mean[32];
+    std::snprintf(mean, sizeof mean, "%.6g", result.mean_spp(s));
+    metadata.extra.insert(metadata.extra.end(),
+                          {{"adaptiveTargetError", format_error(s.target_error)},
+                           {"adaptiveTimeLimit", format_error(s.time_limit_seconds)},
+                           {"adaptiveMinSpp", std::to_string(s.min_spp)},
+                           {"adaptiveRounds", std::to_string(result.rounds)},
+                           {"adaptiveTimeLimitReached", result.time_limit_reached ? "1" : "0"},
+                           {"samplesTaken", std::to_string(result.rays.camera)},
+                           {"meanSpp", mean}});
+  }
   // Derived again rather than passed in, so `prism compare` records it too: it is cheap
   // next to a render.
   const auto features = feature_metadata(derive_scene_features(setup.scene, spheres));

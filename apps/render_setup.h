@@ -22,7 +22,9 @@
 #include "renderer/integrator.h"
 #include "renderer/render.h"
 #include "renderer/scene_description.h"
+#include "renderer/sphere_detection.h"
 #include "renderer/sphere_geometry.h"
+#include "scene_io/gltf_loader.h"
 
 namespace prism {
 
@@ -36,6 +38,7 @@ struct SceneOptions {
   std::string scene_path;
   std::string resolution;  // "WxH", empty = 640x480 or 480 high at the camera's aspect ratio
   std::string camera;      // name or index, empty = the first
+  std::string scene;       // glTF scene name or index, empty = the file's default
   int threads = 0;
   int max_depth = 5;
   std::string working_space = "linear-rec709";
@@ -44,10 +47,15 @@ struct SceneOptions {
   bool allow_external_paths = false;  // buffers and images from outside the scene's folder
 };
 
+// Adds --scene NAME|INDEX (every command that reads a scene file offers it).
+void add_scene_select_option(CLI::App* cmd, std::string* scene);
+// load_gltf, with a --scene the file does not have reported as a UsageError (exit code 2).
+SceneDescription load_selected_scene(const std::string& path, const LoadOptions& options);
+
 // Adds --allow-external-paths (every command that reads a scene file offers it).
 void add_allow_external_paths_flag(CLI::App* cmd, bool* allow);
 
-// Adds the scene positional argument and --res, --camera, --threads, --max-depth,
+// Adds the scene positional argument and --scene, --res, --camera, --threads, --max-depth,
 // --working-space, --ambient and --background to `cmd`.
 void add_scene_options(CLI::App* cmd, SceneOptions* options);
 
@@ -78,6 +86,22 @@ void load_scene(const SceneOptions& options, SceneSetup* setup);
 IntegratorKind parse_integrator_option(const std::string& text, const std::string& option);
 // "analytic", "mesh:3", ... -> SphereOptions; `option` names the flag in the error.
 SphereOptions parse_spheres_option(const std::string& text, const std::string& option);
+
+// --detect-spheres (render only: `replace`) and --sphere-tolerance (docs/spheres.md).
+struct SphereDetectionFlags {
+  bool replace = false;
+  double tolerance = SphereDetectionOptions().tolerance;
+};
+void add_sphere_detection_options(CLI::App* cmd, SphereDetectionFlags* flags, bool with_replace);
+// The options, or a UsageError naming --sphere-tolerance.
+SphereDetectionOptions check_sphere_detection_flags(const SphereDetectionFlags& flags);
+// "mesh [2] 'Ball' (node 'Ball'): centre (x, y, z), radius r, deviation d", as info and render
+// print a candidate.
+std::string describe_sphere_candidate(const SceneDescription& scene, const SphereCandidate& c);
+// Replaces the scene's sphere-shaped meshes by analytic spheres, printing on stderr one line
+// per mesh replaced and per candidate kept as a mesh (with the reason).
+void replace_detected_spheres(const SphereDetectionOptions& options, const std::string& scene_path,
+                              SceneDescription* scene);
 
 // Checked before any work, so a typo in an output path costs nothing and overwrites nothing.
 void check_output_path(const std::string& path, const char* extension, const char* option);

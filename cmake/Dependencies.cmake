@@ -8,6 +8,8 @@ find_package(TinyGLTF REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)
 find_package(Threads REQUIRED)
+# Debian's libdraco-dev ships a working CMake config (draco::draco, the shared library).
+find_package(draco REQUIRED CONFIG)
 
 # Debian's OpenImageIO target lists /usr/include/opencv4 as an include directory even
 # though nothing of OpenCV is needed to use it; CMake rejects the missing path.

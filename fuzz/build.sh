@@ -33,11 +33,17 @@ compile() {
 
 pids=()
 compile "$SRC/fuzz/tinygltf_impl.cpp" "$OUT/tinygltf_impl.o" -w & pids+=($!)
-for f in gltf_accessors gltf_json_check gltf_loader; do
-  compile "$SRC/scene_io/$f.cpp" "$OUT/$f.o" -Wall -Wextra -Werror & pids+=($!)
+for src in "$SRC"/scene_io/*.cpp; do
+  f=$(basename "$src" .cpp)
+  compile "$src" "$OUT/$f.o" -Wall -Wextra -Werror & pids+=($!)
 done
 compile "$SRC/fuzz/gltf_loader_fuzz.cpp" "$OUT/gltf_loader_fuzz.o" -Wall -Wextra -Werror & pids+=($!)
+# The loader generates tangents for normal-mapped primitives without TANGENT.
+compile "$SRC/renderer/tangents.cpp" "$OUT/tangents.o" -Wall -Wextra -Werror & pids+=($!)
 for p in "${pids[@]}"; do wait "$p"; done
 
-"$CXX" -fsanitize=fuzzer $SAN "$OUT"/*.o -o "$OUT/gltf_loader_fuzz"
+# libdraco (KHR_draco_mesh_compression), OpenImageIO (images) and TBB (their parallel
+# decode) are linked from Debian's builds, not instrumented.
+"$CXX" -fsanitize=fuzzer $SAN "$OUT"/*.o -ldraco -lOpenImageIO -lOpenImageIO_Util -ltbb \
+  -o "$OUT/gltf_loader_fuzz"
 echo "$OUT/gltf_loader_fuzz"

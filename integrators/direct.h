@@ -1,12 +1,34 @@
-// The two integrators that see only direct light, `phong` (no shadows) and `shadow` (one
+// Direct light alone: emission plus the local shading equation at the camera ray's nearest
+// hit. The two integrators that see only direct light, `phong` (no shadows) and `shadow` (one
 // shadow ray per light), differ in one compile-time flag, so they are one template; their
-// files (phong.cpp, shadow.cpp) document and create them.
+// files (phong.cpp, shadow.cpp) document and create them. whitted shades each hit with
+// shade_direct too, and runs render_direct_tile itself when the scene has no mirror and
+// nothing transmissive.
 #pragma once
 
 #include "integrators/local_shading.h"
-#include "integrators/tile_loop.h"
+#include "integrators/shading_flags.h"
 
 namespace prism {
+
+// The radiance a hit sends towards the viewer by direct light: its emission (unless F says
+// nothing emits, when it is zero) plus the local shading equation, with shadow rays as
+// F.shadows says.
+template <ShadingFlags F>
+Imath::V3f shade_direct(const RenderContext& context, const SurfaceHit& hit,
+                        const SurfaceResponse& surface, const Imath::V3f& to_viewer,
+                        RayCounters* counters) {
+  const Imath::V3f local = shade_local<F.shadows>(context, hit, surface, to_viewer, counters);
+  if constexpr (F.emission)
+    return surface.emission + local;
+  else
+    return local;
+}
+
+// Renders a tile by direct light, shading with shade_direct under flags.shadows and
+// flags.emission: the instantiation is picked here, once per tile (direct.cpp).
+void render_direct_tile(const ShadingFlags& flags, const RenderContext& context,
+                        const TileRect& tile, Image* image, RayCounters* counters);
 
 template <bool Shadows>
 class DirectLightIntegrator final : public Integrator {
@@ -15,11 +37,9 @@ class DirectLightIntegrator final : public Integrator {
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {
-    render_tile_shading_hits(
-        context, tile, image, counters, [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
-          const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
-          return surface.emission + shade_local<Shadows>(context, hit, surface, -ray.direction, c);
-        });
+    ShadingFlags flags = shading_flags(context);
+    flags.shadows = flags.shadows && Shadows;
+    render_direct_tile(flags, context, tile, image, counters);
   }
 };
 

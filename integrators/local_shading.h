@@ -24,7 +24,8 @@ Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
                        RayCounters* counters) {
   const V3f n = face_forward(surface.shading_normal, to_viewer);
   V3f radiance =
-      hadamard(context.settings.ambient, surface.diffuse_albedo + surface.specular_colour);
+      hadamard(context.settings.ambient, surface.diffuse_albedo + surface.specular_colour) *
+      surface.ambient_occlusion;
   const float lobe_norm = (surface.phong_exponent + 2.0f) * (0.5f * kInvPi);
   for (const LightSource& light : context.scene.lights()) {
     LightArrival arrival;

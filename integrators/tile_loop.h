@@ -29,8 +29,11 @@ void render_tile_with(const RenderContext& context, const TileRect& tile, Image*
   for (int y = tile.y0; y < tile.y1; ++y) {
     for (int x = tile.x0; x < tile.x1; ++x) {
       const uint64_t pixel_index = static_cast<uint64_t>(y) * context.settings.width + x;
+      if (pass.active && !pass.active[pixel_index]) continue;
       PixelSums sums = pass.sums ? pass.sums[pixel_index] : PixelSums{};
       for (int s = pass.first; s < end; ++s) {
+        // Before sample 2^k: the sums of samples [0, 2^k), a complete (0,2)-net.
+        if (pass.first_half && s > 0 && (s & (s - 1)) == 0) pass.first_half[pixel_index] = sums;
         // One sample goes through the pixel centre (the lecture's view ray); more are
         // spread over the pixel (a box filter) by the pixel's Owen-scrambled Sobol points,
         // which stratify where independent jitter clumps (renderer/sampler.h). Sample s
@@ -48,6 +51,7 @@ void render_tile_with(const RenderContext& context, const TileRect& tile, Image*
           continue;
         }
         sums.radiance += r.radiance;
+        sums.radiance_squared += r.radiance * r.radiance;
         sums.hits += r.hit ? 1 : 0;
         ++sums.kept;
       }

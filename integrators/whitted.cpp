@@ -10,9 +10,13 @@
 //     as it enters (KHR_materials_transmission's tint).
 // Both reflections share one reflection ray. Recursion stops at --max-depth.
 //
+// Specialised per tile on the scene's features (shading_flags.h): with no mirror and nothing
+// transmissive it runs the shadow integrator's own code; in an opaque scene it leaves out
+// Fresnel and refraction; without occluders it casts no shadow rays.
+//
 // Parameters: --max-depth, --ambient (I_a), --background.
+#include "integrators/direct.h"
 #include "integrators/integrators.h"
-#include "integrators/local_shading.h"
 #include "integrators/tile_loop.h"
 
 namespace prism {
@@ -23,19 +27,20 @@ float schlick_weight(float cos_theta) {
   return (m * m) * (m * m) * m;
 }
 
-class WhittedIntegrator final : public Integrator {
- public:
-  const char* name() const override { return "whitted"; }
-
-  void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
-                   RayCounters* counters) const override {
+// The recursive tracer under flags F: without F.mirror the opaque part's mirror ray is never
+// weighed, without F.transmission neither Fresnel nor refraction is computed. The feature
+// set only clears a flag when no surface of the scene can take that branch, so each variant
+// computes exactly what the general one does.
+template <ShadingFlags F>
+struct WhittedTracer {
+  static void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
+                          RayCounters* counters) {
     render_tile_shading_hits(context, tile, image, counters,
                              [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
                                return shade(context, ray, hit, 0, c);
                              });
   }
 
- private:
   static V3f trace(const RenderContext& context, const Ray& ray, int depth, RayCounters* counters) {
     SurfaceHit hit;
     if (!context.scene.geometry().intersect(ray, &hit)) return context.settings.background;
@@ -46,7 +51,7 @@ class WhittedIntegrator final : public Integrator {
                    RayCounters* counters) {
     const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
     const V3f to_viewer = -ray.direction;
-    V3f radiance = surface.emission + shade_local<true>(context, hit, surface, to_viewer, counters);
+    V3f radiance = shade_direct<F>(context, hit, surface, to_viewer, counters);
     if (depth >= context.settings.max_depth) return radiance;
 
     const V3f n = face_forward(surface.shading_normal, to_viewer);
@@ -54,25 +59,29 @@ class WhittedIntegrator final : public Integrator {
     const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(to_viewer, n)));
 
     V3f reflect_weight(0.0f);
-    if (surface.mirror && surface.transmission < 1.0f) {
-      const V3f f0 = surface.specular_colour;
-      reflect_weight +=
-          (f0 + (V3f(1.0f) - f0) * schlick_weight(cos_i)) * (1.0f - surface.transmission);
+    if constexpr (F.mirror) {
+      if (surface.mirror && surface.transmission < 1.0f) {
+        const V3f f0 = surface.specular_colour;
+        reflect_weight +=
+            (f0 + (V3f(1.0f) - f0) * schlick_weight(cos_i)) * (1.0f - surface.transmission);
+      }
     }
-    if (surface.transmission > 0.0f) {
-      // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.
-      const float eta = hit.back_face ? 1.0f / surface.ior : surface.ior;
-      const float fresnel = fresnel_dielectric(cos_i, eta);
-      reflect_weight += V3f(surface.transmission * fresnel);
-      V3f refracted;
-      if (fresnel < 1.0f && refract(ray.direction, n, eta, &refracted)) {
-        Ray r;
-        r.origin = offset_ray_origin(hit.position, -outside, hit.surface_error);
-        r.direction = refracted;
-        ++counters->refraction;
-        const V3f tint = hit.back_face ? V3f(1.0f) : surface.transmission_tint;
-        radiance += hadamard(tint, trace(context, r, depth + 1, counters)) *
-                    (surface.transmission * (1.0f - fresnel));
+    if constexpr (F.transmission) {
+      if (surface.transmission > 0.0f) {
+        // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.
+        const float eta = hit.back_face ? 1.0f / surface.ior : surface.ior;
+        const float fresnel = fresnel_dielectric(cos_i, eta);
+        reflect_weight += V3f(surface.transmission * fresnel);
+        V3f refracted;
+        if (fresnel < 1.0f && refract(ray.direction, n, eta, &refracted)) {
+          Ray r;
+          r.origin = offset_ray_origin(hit.position, -outside, hit.surface_error);
+          r.direction = refracted;
+          ++counters->refraction;
+          const V3f tint = hit.back_face ? V3f(1.0f) : surface.transmission_tint;
+          radiance += hadamard(tint, trace(context, r, depth + 1, counters)) *
+                      (surface.transmission * (1.0f - fresnel));
+        }
       }
     }
     if (reflect_weight.x > 0.0f || reflect_weight.y > 0.0f || reflect_weight.z > 0.0f) {
@@ -83,6 +92,37 @@ class WhittedIntegrator final : public Integrator {
       radiance += hadamard(reflect_weight, trace(context, r, depth + 1, counters));
     }
     return radiance;
+  }
+};
+
+// The variants with secondary rays: mirrors in an opaque scene, or everything, each with or
+// without shadow rays. Emission stays on in both: adding it costs nothing next to a
+// reflection ray, and one more flag would double the variants.
+constexpr ShadingFlags secondary_flags(bool shadows, bool transmission) {
+  return ShadingFlags{shadows, /*emission=*/true, /*mirror=*/true, transmission};
+}
+
+class WhittedIntegrator final : public Integrator {
+ public:
+  const char* name() const override { return "whitted"; }
+
+  void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
+                   RayCounters* counters) const override {
+    const ShadingFlags flags = shading_flags(context);
+    // No mirror and nothing transmissive: no ray beyond the shadow rays, so whitted is the
+    // shadow integrator, and runs its very code.
+    if (!flags.secondary()) return render_direct_tile(flags, context, tile, image, counters);
+    if (flags.shadows) {
+      if (flags.transmission)
+        WhittedTracer<secondary_flags(true, true)>::render_tile(context, tile, image, counters);
+      else
+        WhittedTracer<secondary_flags(true, false)>::render_tile(context, tile, image, counters);
+    } else {
+      if (flags.transmission)
+        WhittedTracer<secondary_flags(false, true)>::render_tile(context, tile, image, counters);
+      else
+        WhittedTracer<secondary_flags(false, false)>::render_tile(context, tile, image, counters);
+    }
   }
 };
 

@@ -55,6 +55,15 @@ Ray Camera::generate_ray(float px, float py) const {
     ray.origin = origin_ + u * right_ + v * up_;
     ray.direction = forward_;
   }
+  ray.from_camera = true;
+  // The pixel's cone, for texture filtering (docs/materials.md): a pixel's width on the
+  // image plane at distance 1, seen from the eye along this ray, whose distance to that plane
+  // point is 1 / cos(angle off the axis) = 1 / (direction . forward).
+  const float pixel = 2.0f * half_height_ / static_cast<float>(height_);
+  if (description_.projection == Projection::perspective)
+    ray.cone_spread = pixel * dot(ray.direction, forward_);
+  else
+    ray.cone_width = pixel;
   return ray;
 }
 

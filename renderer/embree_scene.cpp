@@ -14,16 +14,30 @@ namespace prism {
 using Imath::M44f;
 using Imath::V2f;
 
-// Vertex data as Embree sees it, kept for rebuilding hit points and interpolating normals and
-// texture coordinates. Positions carry one padding element: Embree reads 16 bytes per
-// float3 vertex, 4 past the end of the last one.
+// Vertex data as Embree sees it, kept for rebuilding hit points and interpolating normals,
+// and the attributes the material reads (texture coordinates, colours, tangents). Positions
+// carry one padding element: Embree reads 16 bytes per float3 vertex, 4 past the end of the
+// last one.
 struct EmbreeScene::TriangleMesh {
   std::vector<V3f> positions;
   std::vector<V3f> normals;  // unit or zero; empty: shade with the geometric normal (flat)
-  std::vector<V2f> uv;
+  VertexAttributes attributes;
+  bool has_attributes = false;  // any of them: hits point the material at `attributes`
   std::vector<uint32_t> indices;
   int material = -1;
   size_t vertex_count() const { return positions.empty() ? 0 : positions.size() - 1; }
+
+  // Takes the primitive's attributes that have one value per vertex (the loader checks
+  // that; a primitive made in code may not), once `positions` is final.
+  void take_attributes(const Primitive& p, const std::vector<Imath::V4f>& tangents) {
+    const size_t n = p.positions.size();
+    if (p.uv0.size() == n) attributes.texcoords[0] = p.uv0;
+    if (p.uv1.size() == n) attributes.texcoords[1] = p.uv1;
+    if (p.colours.size() == n) attributes.colours = p.colours;
+    if (tangents.size() == n) attributes.tangents = tangents;
+    attributes.positions = positions.data();
+    has_attributes = !attributes.empty();
+  }
 };
 
 namespace {
@@ -131,7 +145,6 @@ std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Pr
   mesh->positions.reserve(p.positions.size() + 1);
   mesh->positions = p.positions;
   mesh->normals = p.normals;
-  mesh->uv = p.uv0;
   mesh->indices = p.indices;
   mesh->material = p.material;
   CleaningCounts counts;
@@ -140,7 +153,7 @@ std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Pr
   *dropped_nonfinite += counts.nonfinite;
   statistics_.normals_repaired += counts.normals_repaired;
   mesh->positions.push_back(V3f(0.0f));
-  if (mesh->uv.size() != p.positions.size()) mesh->uv.clear();
+  mesh->take_attributes(p, p.tangents);
   return mesh;
 }
 
@@ -204,9 +217,26 @@ void bake(const Primitive& p, const M44d& to_world, std::vector<V3f>* positions,
   }
 }
 
+// Tangents move with the surface (as directions, unlike normals). A mirroring transform
+// flips the bitangent cross(normal, tangent) relative to the surface, so w flips with it.
+std::vector<Imath::V4f> bake_tangents(const std::vector<Imath::V4f>& tangents,
+                                      const M44d& to_world) {
+  const float handedness = to_world.determinant() < 0.0 ? -1.0f : 1.0f;
+  std::vector<Imath::V4f> out;
+  out.reserve(tangents.size());
+  for (const Imath::V4f& t : tangents) {
+    V3d w;
+    to_world.multDirMatrix(V3d(t.x, t.y, t.z), w);
+    const V3f d(w.normalized());
+    out.emplace_back(d.x, d.y, d.z, t.w * handedness);
+  }
+  return out;
+}
+
 }  // namespace
 
-EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options)
+EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options,
+                         const std::vector<Material>& materials)
     : world_origin_(options.world_origin) {
   std::string error;
   device_ = rtcNewDevice(nullptr);
@@ -264,9 +294,10 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
         if (baked->indices.empty()) continue;
         statistics_.triangles += baked->indices.size() / 3;
         baked->positions.push_back(V3f(0.0f));  // Embree's read-ahead padding
-        if (p.uv0.size() == p.positions.size()) baked->uv = p.uv0;
+        baked->take_attributes(p, bake_tangents(p.tangents, to_shifted));
         baked->material = p.material;
-        record(attach_triangles(scene_, *baked), {GeometryRecord::Kind::triangles, baked.get(), 0});
+        record(attach_triangles(scene_, *baked, surface_filter(scene, *baked, materials)),
+               {GeometryRecord::Kind::triangles, baked.get(), 0});
         baked_.push_back(std::move(baked));
         ++statistics_.meshes_baked;
       }
@@ -281,7 +312,8 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
         auto geometry = copy_for_embree(p, &use.degenerate, &use.nonfinite);
         if (geometry->indices.empty()) continue;
         use.triangles += geometry->indices.size() / 3;
-        const unsigned id = attach_triangles(proto->scene, *geometry);
+        const unsigned id =
+            attach_triangles(proto->scene, *geometry, surface_filter(scene, *geometry, materials));
         if (proto->geometries.size() <= id) proto->geometries.resize(id + 1);
         proto->geometries[id] = std::move(geometry);
       }
@@ -330,7 +362,7 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
                                       &statistics_.nonfinite_triangles);
           if (mesh->indices.empty()) continue;
           statistics_.triangles += mesh->indices.size() / 3;
-          record(attach_triangles(scene_, *mesh),
+          record(attach_triangles(scene_, *mesh, nullptr),
                  {GeometryRecord::Kind::sphere_mesh, mesh.get(), i});
           baked_.push_back(std::move(mesh));
         }
@@ -355,12 +387,28 @@ EmbreeScene::~EmbreeScene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
-unsigned EmbreeScene::attach_triangles(RTCScene scene, const TriangleMesh& mesh) {
+const SurfaceFilter* EmbreeScene::surface_filter(const SceneDescription& scene,
+                                                 const TriangleMesh& mesh,
+                                                 const std::vector<Material>& materials) {
+  const auto index = static_cast<size_t>(mesh.material);
+  const bool known = mesh.material >= 0 && index < scene.materials.size();
+  auto filter = std::make_unique<SurfaceFilter>(
+      make_surface_filter(known ? &scene.materials[index] : nullptr,
+                          known && index < materials.size() ? &materials[index] : nullptr,
+                          mesh.indices.data(), mesh.has_attributes ? &mesh.attributes : nullptr));
+  if (!needs_filter(*filter)) return nullptr;
+  filters_.push_back(std::move(filter));
+  return filters_.back().get();
+}
+
+unsigned EmbreeScene::attach_triangles(RTCScene scene, const TriangleMesh& mesh,
+                                       const SurfaceFilter* filter) {
   RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(),
                              0, sizeof(V3f), mesh.vertex_count());
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                              3 * sizeof(uint32_t), mesh.indices.size() / 3);
+  if (filter) attach_surface_filter(g, filter);
   rtcCommitGeometry(g);
   const unsigned id = rtcAttachGeometry(scene, g);
   rtcReleaseGeometry(g);
@@ -403,7 +451,13 @@ void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& r
   } else {
     hit->shading_normal = hit->geometric_normal;
   }
-  if (!mesh.uv.empty()) hit->uv = w * mesh.uv[tri[0]] + u * mesh.uv[tri[1]] + v * mesh.uv[tri[2]];
+  // Only where the hit is: the material interpolates the attributes it reads.
+  hit->attributes = mesh.has_attributes ? &mesh.attributes : nullptr;
+  hit->vertices[0] = tri[0];
+  hit->vertices[1] = tri[1];
+  hit->vertices[2] = tri[2];
+  hit->barycentric_u = u;
+  hit->barycentric_v = v;
   hit->material = mesh.material;
 }
 
@@ -421,20 +475,20 @@ bool ray_is_valid(const Ray& ray) {
 
 bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
   if (!ray_is_valid(ray)) return false;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  TraceContext context(ray);  // the surface filters read the ray from it
   RTCRayHit rh = to_rtc_rayhit(ray);
-  rtcIntersect1(scene_, &context, &rh);
+  rtcIntersect1(scene_, &context.embree, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
   hit->t = rh.ray.tfar;
-  hit->uv = V2f(0.0f, 0.0f);
+  hit->object_to_world = nullptr;
   if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
     const Instance& inst = instances_[records_[rh.hit.instID[0]].index];
     fill_triangle_hit(*inst.prototype->geometries[rh.hit.geomID], rh, hit);
     // Everything above is in object space; normals move with the inverse transpose.
     V3f p;
     inst.object_to_world.multVecMatrix(hit->position, p);
+    hit->object_to_world = &inst.object_to_world;
     hit->position = p;
     inst.object_to_world.multDirMatrix(hit->terminator_offset, p);
     hit->terminator_offset = p;
@@ -469,6 +523,7 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
               : 0.0f;
       hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
       hit->material = s.material;
+      hit->attributes = nullptr;
     } else {
       fill_triangle_hit(*r.mesh, rh, hit);
     }
@@ -483,17 +538,19 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
     if (dot(hit->shading_normal, hit->geometric_normal) < 0.0f)
       hit->shading_normal = -hit->shading_normal;
   }
-  hit->back_face = dot(ray.direction, hit->geometric_normal) > 0.0f;
+  const float cos_incidence = dot(ray.direction, hit->geometric_normal);
+  hit->back_face = cos_incidence > 0.0f;
+  hit->cos_incidence = std::fabs(cos_incidence);
+  hit->cone_width = ray.cone_width + ray.cone_spread * hit->t;
   return true;
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const {
   // Blocked: a shadow ray that cannot be traced must not light the point it came from.
   if (!ray_is_valid(ray)) return true;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  TraceContext context(ray);  // the surface filters read the ray from it
   RTCRay r = to_rtc_ray(ray);
-  rtcOccluded1(scene_, &context, &r);
+  rtcOccluded1(scene_, &context.embree, &r);
   return r.tfar < 0.0f;
 }
 

@@ -23,6 +23,7 @@
 #include <Imath/ImathVec.h>
 #include <embree3/rtcore.h>
 
+#include "renderer/alpha_filter.h"
 #include "renderer/ray.h"
 #include "renderer/scene_description.h"
 #include "renderer/sphere_geometry.h"
@@ -53,8 +54,13 @@ struct GeometryStatistics {
 
 class EmbreeScene {
  public:
-  // Throws std::runtime_error if Embree fails (with Embree's message).
-  EmbreeScene(const SceneDescription& scene, const GeometryOptions& options);
+  // Throws std::runtime_error if Embree fails (with Embree's message). `materials` are the
+  // scene's materials resolved (RenderScene's, one per SceneDescription::materials entry),
+  // whose base colour alpha the filters of MASK and BLEND materials read
+  // (renderer/alpha_filter.h); they must outlive this scene. Without them only the alpha
+  // factor counts.
+  EmbreeScene(const SceneDescription& scene, const GeometryOptions& options,
+              const std::vector<Material>& materials = {});
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -78,7 +84,11 @@ class EmbreeScene {
 
   std::unique_ptr<TriangleMesh> copy_for_embree(const Primitive& p, size_t* dropped_degenerate,
                                                 size_t* dropped_nonfinite);
-  unsigned attach_triangles(RTCScene scene, const TriangleMesh& mesh);
+  // `filter`: the mesh's alpha and culling rule, or null for none (spheres).
+  unsigned attach_triangles(RTCScene scene, const TriangleMesh& mesh, const SurfaceFilter* filter);
+  // The filter the mesh's material needs, kept in filters_; null when it needs none.
+  const SurfaceFilter* surface_filter(const SceneDescription& scene, const TriangleMesh& mesh,
+                                      const std::vector<Material>& materials);
   void fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& rh, SurfaceHit* hit) const;
 
   RTCDevice device_ = nullptr;
@@ -86,7 +96,8 @@ class EmbreeScene {
   std::vector<std::unique_ptr<TriangleMesh>> baked_;
   std::vector<std::unique_ptr<Prototype>> prototypes_;
   std::vector<Instance> instances_;
-  std::vector<GeometryRecord> records_;  // by top-level geomID
+  std::vector<GeometryRecord> records_;                  // by top-level geomID
+  std::vector<std::unique_ptr<SurfaceFilter>> filters_;  // Embree's user data: must not move
   std::vector<Sphere> spheres_;
   unsigned analytic_spheres_geom_ = RTC_INVALID_GEOMETRY_ID;
   Imath::Box3f bounds_;

@@ -39,8 +39,18 @@ struct RenderSettings {
   int max_depth = 5;  // whitted: longest chain of reflection/refraction rays
   int threads = 0;    // 0 = every core
   int tile_size = 16;
+  // false: the integrators' general code, whatever the scene's features allow them to skip
+  // (integrators/shading_flags.h); the image is the same, only slower.
+  bool specialise = true;
   Imath::V3f ambient{0.0f, 0.0f, 0.0f};     // I_a: uniform ambient radiance
   Imath::V3f background{0.0f, 0.0f, 0.0f};  // radiance of rays that leave the scene
+  // Adaptive sampling (renderer/adaptive_sampling.h, docs/sampling.md). With neither set,
+  // every pixel takes exactly `spp` samples, as it always did; with either, `spp` is the
+  // most a pixel takes and samples are taken in rounds.
+  float target_error = 0.0f;        // a pixel stops once its relative error is below; 0 = off
+  double time_limit_seconds = 0.0;  // stop after the round in progress once passed; 0 = none
+  int min_spp = 8;                  // samples every pixel takes before the first decision
+  bool adaptive() const { return target_error > 0.0f || time_limit_seconds > 0.0; }
 };
 
 struct TileRect {
@@ -50,17 +60,24 @@ struct TileRect {
 // A pixel's running totals over the samples taken so far, kept between passes.
 struct PixelSums {
   Imath::V3f radiance{0.0f, 0.0f, 0.0f};
-  uint32_t hits = 0;  // kept samples whose camera ray found geometry
-  uint32_t kept = 0;  // samples with finite radiance
+  uint32_t hits = 0;                              // kept samples whose camera ray found geometry
+  uint32_t kept = 0;                              // samples with finite radiance
+  Imath::V3f radiance_squared{0.0f, 0.0f, 0.0f};  // for adaptive sampling's error model
 };
 
 // Which samples of each pixel a render_tile call takes. The default is all of them in one
 // go; renderer/render.cpp takes one sample per pass when it is asked for the image after
 // every pass, keeping the sums in `sums` (one per pixel, row-major) between calls.
+// Adaptive rounds also pass `active` (pixels outside it are left alone: their sums and image
+// pixels keep what earlier rounds wrote) and `first_half`, where each pixel keeps the sums of
+// its first 2^k samples, 2^k the largest power of two below the samples it has taken: the
+// error estimate compares those with the rest (renderer/adaptive_sampling.h).
 struct SamplePass {
   int first = 0;
-  int end = -1;               // exclusive; -1 = settings.spp
-  PixelSums* sums = nullptr;  // null: a single pass, sums live on the stack
+  int end = -1;                     // exclusive; -1 = settings.spp
+  PixelSums* sums = nullptr;        // null: a single pass, sums live on the stack
+  const uint8_t* active = nullptr;  // per pixel, row-major; null = every pixel
+  PixelSums* first_half = nullptr;  // per pixel, row-major; null = not kept
 };
 
 struct RenderContext {

@@ -9,12 +9,120 @@
 namespace prism {
 namespace {
 
+using Imath::V2f;
+using Imath::V4f;
+
 const Texture* texture_or_null(int index, const std::vector<Texture>& textures) {
   return index >= 0 && index < static_cast<int>(textures.size()) ? &textures[index] : nullptr;
 }
 
 Rgb to_rgb(const C3f& c) {
   return Rgb(c.x, c.y, c.z);
+}
+
+TextureSlot make_slot(int index, const TextureMapping& mapping,
+                      const std::vector<Texture>& textures) {
+  TextureSlot slot;
+  slot.texture = texture_or_null(index, textures);
+  slot.texcoord = mapping.texcoord == 1 ? 1 : 0;
+  // KHR_texture_transform's matrix T(offset) R(rotation) S(scale) with R = [cos sin;
+  // -sin cos]: "counter-clockwise" as seen in the image, whose v axis points down. This is
+  // the sense Khronos' TextureTransformTest asset checks (its arrow must reach the green
+  // marker); the transposed R, read off the extension's GLSL as column-major, reaches the
+  // red "opposite direction" marker.
+  const float c = std::cos(mapping.rotation), s = std::sin(mapping.rotation);
+  slot.row0 = V2f(c * mapping.scale.x, s * mapping.scale.y);
+  slot.row1 = V2f(-s * mapping.scale.x, c * mapping.scale.y);
+  slot.offset = mapping.offset;
+  slot.footprint_scale = std::sqrt(std::fabs(mapping.scale.x * mapping.scale.y));
+  return slot;
+}
+
+// The width of the pixel's footprint on the surface in UV units of coordinate set `set`:
+// the ray cone's width at the hit, stretched by 1 / cos(incidence) along the surface, times
+// the hit triangle's UV length per world length, sqrt(UV area / area). This is the
+// isotropic ray-cone estimate (Akenine-Moller et al., "Texture Level of Detail Strategies
+// for Real-Time Ray Tracing", Ray Tracing Gems, 2019) with the stretched axis taken for
+// both: at grazing angles it blurs across the stretch rather than aliasing along it.
+// 0 (magnify) when the ray has no cone or the triangle has no UV area.
+float uv_footprint(const SurfaceHit& hit, int set) {
+  if (!(hit.cone_width > 0.0f) || !hit.attributes) return 0.0f;
+  const std::vector<V2f>& uv = hit.attributes->texcoords[set];
+  if (uv.empty()) return 0.0f;
+  const V3f* p = hit.attributes->positions;
+  const uint32_t* v = hit.vertices;
+  V3f e1 = p[v[1]] - p[v[0]], e2 = p[v[2]] - p[v[0]];
+  if (hit.object_to_world) {
+    V3f w1, w2;
+    hit.object_to_world->multDirMatrix(e1, w1);
+    hit.object_to_world->multDirMatrix(e2, w2);
+    e1 = w1;
+    e2 = w2;
+  }
+  const float area = e1.cross(e2).length();
+  const V2f t1 = uv[v[1]] - uv[v[0]], t2 = uv[v[2]] - uv[v[0]];
+  const float uv_area = std::fabs(t1.x * t2.y - t1.y * t2.x);
+  if (!(area > 0.0f)) return 0.0f;
+  return hit.cone_width / std::max(hit.cos_incidence, 1e-6f) * std::sqrt(uv_area / area);
+}
+
+// The texture lookups of one evaluate: a coordinate set is interpolated, and its footprint
+// estimated, once, and only when a slot reads it.
+class SlotReader {
+ public:
+  explicit SlotReader(const SurfaceHit& hit) : hit_(hit) {}
+
+  V4f sample(const TextureSlot& slot) {
+    const int set = slot.texcoord;
+    if (!ready_[set]) {
+      ready_[set] = true;
+      uv_[set] = hit_.texcoord(set);
+      footprint_[set] = uv_footprint(hit_, set);
+    }
+    return slot.texture->sample(slot.transform(uv_[set]), footprint_[set] * slot.footprint_scale);
+  }
+
+ private:
+  const SurfaceHit& hit_;
+  bool ready_[2] = {false, false};
+  V2f uv_[2];
+  float footprint_[2] = {0.0f, 0.0f};
+};
+
+// The shading normal bent by a tangent-space normal-map texel (glTF's normalTexture: x and
+// y scaled by `scale`, +Y towards decreasing v), in the hit's tangent frame: the tangent
+// made orthogonal to the shading normal, the bitangent cross(normal, tangent) x w. Kept
+// unit and on the geometric normal's side (a map may tilt it past the surface's horizon).
+// A hit without tangents keeps its normal.
+V3f bend_normal(const SurfaceHit& hit, const V4f& texel, float scale) {
+  const V3f& n = hit.shading_normal;
+  if (!hit.attributes || hit.attributes->tangents.empty()) return n;
+  const V4f t4 = hit.interpolate(hit.attributes->tangents);
+  V3f t(t4.x, t4.y, t4.z);
+  float handedness = t4.w < 0.0f ? -1.0f : 1.0f;
+  if (hit.object_to_world) {
+    V3f w;
+    hit.object_to_world->multDirMatrix(t, w);
+    t = w;
+    // A mirroring instance flips the bitangent relative to the surface (bake_tangents).
+    if (hit.object_to_world->determinant() < 0.0f) handedness = -handedness;
+  }
+  t -= n * n.dot(t);
+  const float t_len2 = t.length2();
+  if (!(t_len2 > 1e-20f) || !std::isfinite(t_len2)) return n;
+  t /= std::sqrt(t_len2);
+  const V3f b = n.cross(t) * handedness;
+  const V3f m((2.0f * texel.x - 1.0f) * scale, (2.0f * texel.y - 1.0f) * scale,
+              2.0f * texel.z - 1.0f);
+  V3f bent = t * m.x + b * m.y + n * m.z;
+  const float len = bent.length();
+  if (!(len > 0.0f) || !std::isfinite(len)) return n;
+  bent /= len;
+  const V3f& ng = hit.geometric_normal;
+  constexpr float kMinCos = 1e-3f;
+  const float below = kMinCos - bent.dot(ng);
+  if (below > 0.0f) bent = (bent + ng * below).normalized();
+  return bent;
 }
 
 }  // namespace
@@ -33,12 +141,25 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
                        const ColourPipeline& colour) {
   Material m;
   m.base_colour = to_rgb(colour.from_linear_rec709(d.base_colour));
-  m.base_colour_texture = texture_or_null(d.base_colour_texture, textures);
+  m.alpha = std::clamp(d.alpha, 0.0f, 1.0f);
+  m.base_colour_texture = make_slot(d.base_colour_texture, d.base_colour_mapping, textures);
   m.metallic = std::clamp(d.metallic, 0.0f, 1.0f);
   m.roughness = std::clamp(d.roughness, 0.0f, 1.0f);
-  m.metallic_roughness_texture = texture_or_null(d.metallic_roughness_texture, textures);
+  m.metallic_roughness_texture =
+      make_slot(d.metallic_roughness_texture, d.metallic_roughness_mapping, textures);
   m.emissive = to_rgb(colour.from_linear_rec709(d.emissive));
-  m.emissive_texture = texture_or_null(d.emissive_texture, textures);
+  m.emissive_texture = make_slot(d.emissive_texture, d.emissive_mapping, textures);
+  m.normal_texture = make_slot(d.normal_texture, d.normal_mapping, textures);
+  m.normal_scale = std::isfinite(d.normal_scale) ? d.normal_scale : 1.0f;
+  m.occlusion_texture = make_slot(d.occlusion_texture, d.occlusion_mapping, textures);
+  m.occlusion_strength = std::clamp(d.occlusion_strength, 0.0f, 1.0f);
+  // The conversion is linear: its rows are the images of the Rec.709 primaries.
+  for (int i = 0; i < 3; ++i) {
+    C3f primary(0.0f, 0.0f, 0.0f);
+    primary[i] = 1.0f;
+    const C3f row = colour.from_linear_rec709(primary);
+    for (int j = 0; j < 3; ++j) m.rec709_to_working[i][j] = row[j];
+  }
   m.transmission = std::clamp(d.transmission, 0.0f, 1.0f);
   m.ior = d.ior >= 1.0f ? d.ior : 1.5f;
   m.specular = std::clamp(d.specular, 0.0f, 1.0f);
@@ -46,22 +167,38 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
   return m;
 }
 
+float base_colour_alpha(const Material& material, const SurfaceHit& hit) {
+  float alpha = material.alpha;
+  if (material.base_colour_texture.texture) {
+    const TextureSlot& slot = material.base_colour_texture;
+    alpha *= slot.texture->sample(slot.transform(hit.texcoord(slot.texcoord))).w;
+  }
+  return alpha * hit.vertex_colour().w;
+}
+
 SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
-  const Imath::V2f& uv = hit.uv;
+  SlotReader read(hit);
   Rgb base = material.base_colour;
-  if (material.base_colour_texture) {
-    const Imath::V4f t = material.base_colour_texture->sample(uv);
+  float alpha = material.alpha;
+  if (material.base_colour_texture.texture) {
+    const V4f t = read.sample(material.base_colour_texture);
     base = hadamard(base, Rgb(t.x, t.y, t.z));
+    alpha *= t.w;
+  }
+  if (hit.attributes && !hit.attributes->colours.empty()) {
+    const V4f c = hit.interpolate(hit.attributes->colours);
+    base = hadamard(base, Rgb(c.x, c.y, c.z) * material.rec709_to_working);
+    alpha *= c.w;
   }
   float metallic = material.metallic, roughness = material.roughness;
-  if (material.metallic_roughness_texture) {
-    const Imath::V4f t = material.metallic_roughness_texture->sample(uv);
+  if (material.metallic_roughness_texture.texture) {
+    const V4f t = read.sample(material.metallic_roughness_texture);
     roughness *= t.y;  // glTF: roughness in green, metallic in blue
     metallic *= t.z;
   }
   Rgb emission = material.emissive;
-  if (material.emissive_texture) {
-    const Imath::V4f t = material.emissive_texture->sample(uv);
+  if (material.emissive_texture.texture) {
+    const V4f t = read.sample(material.emissive_texture);
     emission = hadamard(emission, Rgb(t.x, t.y, t.z));
   }
 
@@ -85,7 +222,16 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
   r.ior = material.ior;
   r.transmission_tint = base;
   r.emission = emission;
-  r.shading_normal = hit.shading_normal;
+  r.shading_normal =
+      material.normal_texture.texture
+          ? bend_normal(hit, read.sample(material.normal_texture), material.normal_scale)
+          : hit.shading_normal;
+  if (material.occlusion_texture.texture) {
+    const float occlusion = read.sample(material.occlusion_texture).x;  // glTF: red
+    r.ambient_occlusion =
+        std::clamp(1.0f + material.occlusion_strength * (occlusion - 1.0f), 0.0f, 1.0f);
+  }
+  r.alpha = alpha;
   return r;
 }
 

@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include <Imath/ImathMatrix.h>
 #include <Imath/ImathVec.h>
 
 #include "renderer/scene_description.h"
@@ -23,15 +24,39 @@ constexpr float kMirrorRoughness = 0.1f;
 // point light, which a mirror ray can never find.
 constexpr float kMaxPhongExponent = 10000.0f;
 
+// A material slot's texture and where it is read: the texture coordinate set and
+// KHR_texture_transform as uv' = linear uv + offset.
+struct TextureSlot {
+  const Texture* texture = nullptr;  // null: the slot is empty
+  int texcoord = 0;
+  Imath::V2f row0{1.0f, 0.0f}, row1{0.0f, 1.0f};  // the 2x2 linear part, by rows
+  Imath::V2f offset{0.0f, 0.0f};
+  // How much the transform scales lengths in UV (sqrt |det|): a footprint of width w in the
+  // mesh's UVs is one of width w * footprint_scale in the texture's.
+  float footprint_scale = 1.0f;
+
+  Imath::V2f transform(const Imath::V2f& uv) const {
+    return Imath::V2f(row0.x * uv.x + row0.y * uv.y + offset.x,
+                      row1.x * uv.x + row1.y * uv.y + offset.y);
+  }
+};
+
 // The material with its factors in the working space and its textures resolved.
 struct Material {
   Rgb base_colour{1.0f, 1.0f, 1.0f};
-  const Texture* base_colour_texture = nullptr;
+  float alpha = 1.0f;
+  TextureSlot base_colour_texture;
   float metallic = 1.0f;
   float roughness = 1.0f;
-  const Texture* metallic_roughness_texture = nullptr;
+  TextureSlot metallic_roughness_texture;
   Rgb emissive{0.0f, 0.0f, 0.0f};
-  const Texture* emissive_texture = nullptr;
+  TextureSlot emissive_texture;
+  TextureSlot normal_texture;
+  float normal_scale = 1.0f;
+  TextureSlot occlusion_texture;
+  float occlusion_strength = 1.0f;
+  // COLOR_0 is linear Rec.709; this takes it to the working space (identity for Rec.709).
+  Imath::M33f rec709_to_working;
   float transmission = 0.0f;
   float ior = 1.5f;
   float specular = 1.0f;  // KHR_materials_specular
@@ -51,14 +76,23 @@ struct SurfaceResponse {
   // Unit, on the geometric normal's side: the hit's shading normal, bent by the material's
   // normal map where it has one. Integrators shade with this, not SurfaceHit's.
   Imath::V3f shading_normal;
+  // The occlusion texture's factor 1 + strength (occlusion - 1), in [0, 1]: it scales the
+  // ambient term only, glTF's "indirect light" (docs/materials.md, "Occlusion").
+  float ambient_occlusion = 1.0f;
+  float alpha = 1.0f;  // baseColorFactor's alpha x the texture's x COLOR_0's
 };
 
 Material make_material(const MaterialDescription& description, const std::vector<Texture>& textures,
                        const ColourPipeline& colour);
 
 // Evaluates the material at a hit: its textures at the hit's texture coordinates (not read
-// when untextured) and its normal map.
+// when untextured), filtered over the pixel's footprint, COLOR_0, its normal map and its
+// occlusion map.
 SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit);
+
+// The base colour's alpha at a hit (baseColorFactor x texture x COLOR_0), for alpha modes,
+// without the rest of evaluate. The texture is read at its finest level.
+float base_colour_alpha(const Material& material, const SurfaceHit& hit);
 
 // The Phong exponent that matches a glTF roughness: the Blinn-Phong/Beckmann correspondence
 // n = 2 / alpha^2 - 2 with alpha = roughness^2, capped at kMaxPhongExponent.

@@ -8,64 +8,186 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-namespace prism {
+#include "renderer/adaptive_sampling.h"
 
-RenderResult render(const Integrator& integrator, const RenderContext& context, Image* image,
-                    const ProgressCallback& progress, const PassCallback& after_pass) {
-  using Clock = std::chrono::steady_clock;
-  const RenderSettings& s = context.settings;
-  *image = Image(s.width, s.height);
+namespace prism {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::vector<TileRect> make_tiles(const RenderSettings& s) {
   const int ts = std::max(1, s.tile_size);
   std::vector<TileRect> tiles;
   for (int y = 0; y < s.height; y += ts)
     for (int x = 0; x < s.width; x += ts)
       tiles.push_back({x, y, std::min(x + ts, s.width), std::min(y + ts, s.height)});
+  return tiles;
+}
 
-  // Passes keep each pixel's sums between them; a single pass keeps them on the stack.
-  const int passes = after_pass ? std::max(1, s.spp) : 1;
-  std::vector<PixelSums> sums(after_pass ? static_cast<size_t>(s.width) * s.height : 0);
+// Runs passes over tiles in parallel, adding up the rays every tile cast and reporting
+// progress; times the whole render without the PassCallback's share.
+class PassRunner {
+ public:
+  PassRunner(const Integrator& integrator, const RenderSettings& s, Image* image,
+             const ProgressCallback& progress)
+      : integrator_(integrator),
+        image_(image),
+        progress_(progress),
+        arena_(s.threads > 0 ? s.threads : tbb::task_arena::automatic),
+        start_(Clock::now()) {}
 
-  std::atomic<uint64_t> camera{0}, shadow{0}, reflection{0}, refraction{0}, discarded{0};
-  std::atomic<int> done{0};
-  const int total = static_cast<int>(tiles.size()) * passes;
-  Clock::duration callback_time{};
-  const auto start = Clock::now();
-  tbb::task_arena arena(s.threads > 0 ? s.threads : tbb::task_arena::automatic);
-  for (int pass = 0; pass < passes; ++pass) {
-    RenderContext pass_context = context;
-    if (after_pass) pass_context.pass = SamplePass{pass, pass + 1, sums.data()};
-    arena.execute([&] {
+  void run(const RenderContext& context, const std::vector<TileRect>& tiles) {
+    arena_.execute([&] {
       tbb::parallel_for(
           tbb::blocked_range<size_t>(0, tiles.size(), 1),
           [&](const tbb::blocked_range<size_t>& range) {
             for (size_t i = range.begin(); i != range.end(); ++i) {
               RayCounters counters;
-              integrator.render_tile(pass_context, tiles[i], image, &counters);
-              camera += counters.camera;
-              shadow += counters.shadow;
-              reflection += counters.reflection;
-              refraction += counters.refraction;
-              discarded += counters.discarded_samples;
-              const int n = ++done;
-              if (progress) progress(n, total);
+              integrator_.render_tile(context, tiles[i], image_, &counters);
+              camera_ += counters.camera;
+              shadow_ += counters.shadow;
+              reflection_ += counters.reflection;
+              refraction_ += counters.refraction;
+              discarded_ += counters.discarded_samples;
+              report(++done_);
             }
           },
           tbb::simple_partitioner());
     });
-    if (after_pass) {
-      const auto callback_start = Clock::now();
-      after_pass(pass + 1, *image);
-      callback_time += Clock::now() - callback_start;
-    }
+  }
+
+  // Work that runs in the same arena (so within the thread limit) without tiles.
+  template <typename F>
+  void execute(F&& f) {
+    arena_.execute(std::forward<F>(f));
+  }
+
+  void set_total(int total) { total_ = total; }
+  // Tiles a round skips (no active pixel) still count towards the bar.
+  void skip(int tiles) { report(done_ += tiles); }
+  void finish() {
+    if (done_ < total_) report(done_ = total_.load());
+  }
+
+  void call(const PassCallback& after_pass, int samples, const Image& image) {
+    const auto callback_start = Clock::now();
+    after_pass(samples, image);
+    callback_time_ += Clock::now() - callback_start;
+  }
+  double seconds() const {
+    return std::chrono::duration<double>(Clock::now() - start_ - callback_time_).count();
+  }
+
+  RayCounters rays() const {
+    RayCounters r;
+    r.camera = camera_.load();
+    r.shadow = shadow_.load();
+    r.reflection = reflection_.load();
+    r.refraction = refraction_.load();
+    r.discarded_samples = discarded_.load();
+    return r;
+  }
+
+ private:
+  void report(int done) {
+    if (progress_) progress_(done, total_);
+  }
+
+  const Integrator& integrator_;
+  Image* image_;
+  const ProgressCallback& progress_;
+  tbb::task_arena arena_;
+  const Clock::time_point start_;
+  Clock::duration callback_time_{};
+  std::atomic<uint64_t> camera_{0}, shadow_{0}, reflection_{0}, refraction_{0}, discarded_{0};
+  std::atomic<int> done_{0}, total_{0};
+};
+
+RenderResult render_uniform(const RenderContext& context, const std::vector<TileRect>& tiles,
+                            PassRunner* runner, Image* image, const PassCallback& after_pass) {
+  const RenderSettings& s = context.settings;
+  // Passes keep each pixel's sums between them; a single pass keeps them on the stack.
+  const int passes = after_pass ? std::max(1, s.spp) : 1;
+  std::vector<PixelSums> sums(after_pass ? static_cast<size_t>(s.width) * s.height : 0);
+  runner->set_total(static_cast<int>(tiles.size()) * passes);
+  for (int pass = 0; pass < passes; ++pass) {
+    RenderContext pass_context = context;
+    if (after_pass) pass_context.pass = SamplePass{pass, pass + 1, sums.data()};
+    runner->run(pass_context, tiles);
+    if (after_pass) runner->call(after_pass, pass + 1, *image);
   }
   RenderResult result;
-  result.seconds = std::chrono::duration<double>(Clock::now() - start - callback_time).count();
-  result.rays.camera = camera.load();
-  result.rays.shadow = shadow.load();
-  result.rays.reflection = reflection.load();
-  result.rays.refraction = refraction.load();
-  result.rays.discarded_samples = discarded.load();
+  result.seconds = runner->seconds();
+  result.rays = runner->rays();
   return result;
+}
+
+RenderResult render_adaptive(const RenderContext& context, const std::vector<TileRect>& tiles,
+                             PassRunner* runner, Image* image, const PassCallback& after_pass) {
+  const RenderSettings& s = context.settings;
+  const int spp = std::max(1, s.spp);
+  const size_t pixels = static_cast<size_t>(s.width) * s.height;
+  std::vector<PixelSums> sums(pixels), first_half(pixels);
+  std::vector<uint8_t> active(pixels, 1);
+  std::vector<uint32_t> samples(pixels, 0);
+  std::vector<float> error;
+
+  int planned = 0;
+  for (int n = 0; n < spp; n = next_round_end(n, s.min_spp, spp)) ++planned;
+  runner->set_total(static_cast<int>(tiles.size()) * planned);
+
+  RenderResult result;
+  std::vector<TileRect> round_tiles = tiles;
+  for (int done = 0; done < spp;) {
+    const int end = next_round_end(done, s.min_spp, spp);
+    RenderContext round_context = context;
+    round_context.pass = SamplePass{done, end, sums.data(), active.data(), first_half.data()};
+    runner->skip(static_cast<int>(tiles.size() - round_tiles.size()));
+    runner->run(round_context, round_tiles);
+    for (size_t i = 0; i < pixels; ++i)
+      if (active[i]) samples[i] = static_cast<uint32_t>(end);
+    done = end;
+    ++result.rounds;
+    if (after_pass) runner->call(after_pass, done, *image);
+    if (done >= spp) break;
+    if (s.time_limit_seconds > 0.0 && runner->seconds() >= s.time_limit_seconds) {
+      result.time_limit_reached = true;
+      break;
+    }
+    if (s.target_error > 0.0f) {
+      size_t still_active = 0;
+      runner->execute([&] {
+        still_active = update_active_pixels(s.width, s.height, sums.data(), first_half.data(),
+                                            s.target_error, &error, active.data());
+      });
+      if (still_active == 0) break;
+      round_tiles.clear();
+      for (const TileRect& t : tiles) {
+        bool any = false;
+        for (int y = t.y0; y < t.y1 && !any; ++y)
+          for (int x = t.x0; x < t.x1 && !any; ++x)
+            any = active[static_cast<size_t>(y) * s.width + x] != 0;
+        if (any) round_tiles.push_back(t);
+      }
+    }
+  }
+  runner->finish();
+  result.seconds = runner->seconds();
+  result.rays = runner->rays();
+  result.samples_per_pixel = std::move(samples);
+  return result;
+}
+
+}  // namespace
+
+RenderResult render(const Integrator& integrator, const RenderContext& context, Image* image,
+                    const ProgressCallback& progress, const PassCallback& after_pass) {
+  const RenderSettings& s = context.settings;
+  *image = Image(s.width, s.height);
+  const std::vector<TileRect> tiles = make_tiles(s);
+  PassRunner runner(integrator, s, image, progress);
+  return s.adaptive() ? render_adaptive(context, tiles, &runner, image, after_pass)
+                      : render_uniform(context, tiles, &runner, image, after_pass);
 }
 
 }  // namespace prism

@@ -2,7 +2,9 @@
 // (pixel, sample), so the image is bit-identical whatever the thread count or tile order.
 #pragma once
 
+#include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "renderer/integrator.h"
 
@@ -11,6 +13,16 @@ namespace prism {
 struct RenderResult {
   RayCounters rays;      // also counts the non-finite samples discarded
   double seconds = 0.0;  // rendering alone, without the time spent in a PassCallback
+  // Adaptive renders (settings.adaptive()) only; a uniform render leaves them empty or 0.
+  int rounds = 0;
+  bool time_limit_reached = false;
+  std::vector<uint32_t> samples_per_pixel;  // row-major: the samples each pixel took
+
+  // Samples per pixel taken, over the whole image (one camera ray per sample).
+  double mean_spp(const RenderSettings& settings) const {
+    return static_cast<double>(rays.camera) /
+           (static_cast<double>(settings.width) * settings.height);
+  }
 };
 
 // Called after each finished tile, possibly from several threads at once.
@@ -24,6 +36,12 @@ using PassCallback = std::function<void(int samples_done, const Image& image)>;
 // every pixel, and `after_pass` sees each intermediate image (e.g. to measure convergence).
 // The final image is bit-identical to a single-pass render: each pixel adds the same samples
 // in the same order and divides once at the end.
+//
+// When settings.adaptive(), samples are taken in rounds (renderer/adaptive_sampling.h):
+// after each, pixels whose neighbourhood has converged below settings.target_error stop, and
+// once settings.time_limit_seconds has passed no new round starts. `after_pass` then sees the
+// image after each round, with the most samples any pixel has taken; `progress` counts tiles
+// against the rounds a render to settings.spp would need.
 RenderResult render(const Integrator& integrator, const RenderContext& context, Image* image,
                     const ProgressCallback& progress = {}, const PassCallback& after_pass = {});
 

@@ -3,16 +3,27 @@
 #include "renderer/colour.h"
 
 namespace prism {
+namespace {
+
+std::vector<Material> make_materials(const SceneDescription& scene,
+                                     const std::vector<Texture>& textures,
+                                     const ColourPipeline& colour) {
+  std::vector<Material> materials;
+  materials.reserve(scene.materials.size());
+  for (const MaterialDescription& m : scene.materials)
+    materials.push_back(make_material(m, textures, colour));
+  return materials;
+}
+
+}  // namespace
 
 RenderScene::RenderScene(const SceneDescription& scene, const GeometryOptions& options,
                          const ColourPipeline& colour)
-    : geometry_(scene, options) {
-  textures_.reserve(scene.textures.size());
-  for (const TextureImage& image : scene.textures) textures_.emplace_back(image, colour);
-  materials_.reserve(scene.materials.size());
-  for (const MaterialDescription& m : scene.materials)
-    materials_.push_back(make_material(m, textures_, colour));
-  default_material_ = make_material(MaterialDescription{}, textures_, colour);
+    : textures_(make_textures(scene.textures, colour)),
+      materials_(make_materials(scene, textures_, colour)),
+      default_material_(make_material(MaterialDescription{}, textures_, colour)),
+      geometry_(scene, options, materials_),
+      features_(derive_scene_features(scene, options.spheres)) {
   lights_.reserve(scene.lights.size());
   for (Light light : scene.lights) {
     // Into the geometry's shifted frame, in double (embree_scene.h).

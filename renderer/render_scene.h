@@ -11,6 +11,7 @@
 #include "renderer/embree_scene.h"
 #include "renderer/lights.h"
 #include "renderer/material.h"
+#include "renderer/scene_features.h"
 #include "renderer/texture.h"
 
 namespace prism {
@@ -34,13 +35,19 @@ class RenderScene {
                                                                      : default_material_;
   }
   bool has_textures() const { return !textures_.empty(); }
+  // What the scene uses, derived once here for the sphere mode the geometry was built with:
+  // the integrators specialise on it (integrators/shading_flags.h).
+  const SceneFeatures& features() const { return features_; }
 
  private:
-  EmbreeScene geometry_;
-  std::vector<Texture> textures_;  // before materials_, which point into it
+  // In this order: materials point into textures_, the geometry's alpha filters into
+  // materials_ (renderer/alpha_filter.h).
+  std::vector<Texture> textures_;
   std::vector<Material> materials_;
   Material default_material_;
+  EmbreeScene geometry_;
   std::vector<LightSource> lights_;
+  SceneFeatures features_;
 };
 
 }  // namespace prism

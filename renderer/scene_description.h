@@ -28,6 +28,12 @@ enum class TextureEncoding { srgb, linear_data };
 
 enum class TextureWrap { repeat, clamp_to_edge, mirrored_repeat };
 
+// glTF's magFilter, and minFilter's filter within one mip level.
+enum class TextureFilter { nearest, linear };
+// minFilter's choice between mip levels: none (the full image only), the nearest level, or
+// a blend of the two nearest (with TextureFilter::linear: trilinear filtering).
+enum class MipMode { none, nearest, linear };
+
 // A decoded image, values normalised to [0, 1] as stored in the file (not yet linearised).
 struct TextureImage {
   std::string name;
@@ -38,24 +44,54 @@ struct TextureImage {
   TextureEncoding encoding = TextureEncoding::srgb;
   TextureWrap wrap_s = TextureWrap::repeat;
   TextureWrap wrap_t = TextureWrap::repeat;
+  // A sampler without filters leaves the choice to the renderer: bilinear and trilinear.
+  TextureFilter mag_filter = TextureFilter::linear;
+  TextureFilter min_filter = TextureFilter::linear;
+  MipMode mip_mode = MipMode::linear;
+  int image = -1;  // the glTF image decoded into `texels`; textures of one image share it
 };
+
+// How a material slot reads its texture: glTF's textureInfo.texCoord and
+// KHR_texture_transform, uv' = T(offset) R(rotation) S(scale) uv.
+struct TextureMapping {
+  int texcoord = 0;  // TEXCOORD_0 or TEXCOORD_1
+  V2f offset{0.0f, 0.0f};
+  float rotation = 0.0f;  // radians, as the extension defines it
+  V2f scale{1.0f, 1.0f};
+};
+
+// glTF's alphaMode. OPAQUE ignores alpha; MASK keeps a surface point where its alpha is at
+// least alpha_cutoff and removes it elsewhere; BLEND makes it partly transparent (alpha is
+// the fraction of light it stops). renderer/alpha_filter.h implements both for every ray.
+enum class AlphaMode { opaque, mask, blend };
 
 // glTF metallic-roughness material, unmapped. renderer/material.h maps it onto the
 // lecture's ambient + Lambert + Phong + mirror + refraction model (see docs/materials.md).
 struct MaterialDescription {
   std::string name;
   C3f base_colour{1.0f, 1.0f, 1.0f};
-  float alpha = 1.0f;
+  float alpha = 1.0f;  // baseColorFactor[3]; with the texture's and COLOR_0's alpha
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;     // MASK only
   int base_colour_texture = -1;  // index into SceneDescription::textures, -1 = none
   float metallic = 1.0f;
   float roughness = 1.0f;
   int metallic_roughness_texture = -1;  // G = roughness, B = metallic (linear data)
   C3f emissive{0.0f, 0.0f, 0.0f};
   int emissive_texture = -1;
-  float transmission = 0.0f;  // KHR_materials_transmission
-  float ior = 1.5f;           // KHR_materials_ior
-  float specular = 1.0f;      // KHR_materials_specular: specularFactor
+  // Tangent-space normals (x, y times normal_scale) and ambient occlusion (red), linear data.
+  int normal_texture = -1;
+  float normal_scale = 1.0f;
+  int occlusion_texture = -1;
+  float occlusion_strength = 1.0f;
+  // The texture coordinates each slot reads: texCoord and KHR_texture_transform.
+  TextureMapping base_colour_mapping, metallic_roughness_mapping, emissive_mapping;
+  TextureMapping normal_mapping, occlusion_mapping;
+  float transmission = 0.0f;              // KHR_materials_transmission
+  float ior = 1.5f;                       // KHR_materials_ior
+  float specular = 1.0f;                  // KHR_materials_specular: specularFactor
   C3f specular_colour{1.0f, 1.0f, 1.0f};  // KHR_materials_specular: specularColorFactor
+  // false (glTF's default): camera rays do not see the back face (docs/materials.md).
   bool double_sided = false;
 };
 
@@ -63,8 +99,14 @@ struct MaterialDescription {
 // winding is counter-clockwise for the front face in object space.
 struct Primitive {
   std::vector<V3f> positions;
-  std::vector<V3f> normals;       // per vertex, or empty: the geometric (flat) normal is used
-  std::vector<V2f> uv0;           // per vertex, or empty
+  std::vector<V3f> normals;  // per vertex, or empty: the geometric (flat) normal is used
+  std::vector<V2f> uv0;      // per vertex, or empty
+  std::vector<V2f> uv1;      // TEXCOORD_1, per vertex, or empty
+  // Per vertex, or empty: COLOR_0 as linear Rec.709 RGBA (VEC3: alpha 1), and TANGENT (xyz
+  // unit, w = +-1 the bitangent's sign), which the loader generates for normal-mapped
+  // primitives that lack it.
+  std::vector<Imath::V4f> colours;
+  std::vector<Imath::V4f> tangents;
   std::vector<uint32_t> indices;  // 3 per triangle, every index < positions.size()
   int material = -1;              // -1 = the default material
 };

@@ -5,6 +5,7 @@
 
 #include <Imath/ImathBox.h>
 
+#include "renderer/camera.h"
 #include "renderer/material.h"
 
 namespace prism {
@@ -14,6 +15,12 @@ namespace {
 // stay far inside it, while a mesh bent by more would be bent by more than the integrators'
 // shadow-ray offset, so it is not called flat.
 constexpr double kPlanarTolerance = 1e-6;
+// A flat mesh with vertex normals: how far (sine of the angle) those normals may lean off the
+// plane, and how far every light must stay off it as seen from each vertex. The normals
+// then bend the shading normal, and move the shadow ray's start (Hanika's offset), by far
+// less than the light's angle to the plane, so the ray still leaves on the light's side.
+constexpr double kNormalLean = 1e-6;
+constexpr double kLightClearance = 1e-4;
 
 const TextureImage* texture_at(const SceneDescription& scene, int index) {
   return index >= 0 && static_cast<size_t>(index) < scene.textures.size()
@@ -40,21 +47,39 @@ float smallest_roughness(const SceneDescription& scene, const MaterialDescriptio
   return factor * std::max(lowest, 0.0f);
 }
 
-void add_material(const SceneDescription& scene, int index, SceneFeatures* f) {
+const MaterialDescription* material_at(const SceneDescription& scene, int index) {
   // -1 and anything out of range is glTF's default material, which RenderScene uses too:
   // white, metallic 1, roughness 1, untextured, opaque, not emissive.
-  if (index < 0 || static_cast<size_t>(index) >= scene.materials.size()) return;
-  const MaterialDescription& m = scene.materials[static_cast<size_t>(index)];
+  return index >= 0 && static_cast<size_t>(index) < scene.materials.size()
+             ? &scene.materials[static_cast<size_t>(index)]
+             : nullptr;
+}
+
+// The texture's blue channel scales metallic down, so with one the surface may be partly
+// dielectric and refract even when the factor says metal.
+bool refracts(const SceneDescription& scene, const MaterialDescription& m) {
+  return std::clamp(m.transmission, 0.0f, 1.0f) > 0.0f &&
+         (m.metallic < 1.0f || texture_at(scene, m.metallic_roughness_texture) != nullptr);
+}
+
+// A normal map bends the shading normal away from the geometric one, so a point can face a
+// light the surface itself hides.
+bool normal_mapped(const SceneDescription& scene, int material) {
+  const MaterialDescription* m = material_at(scene, material);
+  return m && texture_at(scene, m->normal_texture) != nullptr;
+}
+
+void add_material(const SceneDescription& scene, int index, SceneFeatures* f) {
+  const MaterialDescription* found = material_at(scene, index);
+  if (!found) return;
+  const MaterialDescription& m = *found;
   const bool mr_texture = texture_at(scene, m.metallic_roughness_texture) != nullptr;
   if (texture_at(scene, m.base_colour_texture))
-    f->textures = f->textures | TextureSlot::base_colour;
-  if (mr_texture) f->textures = f->textures | TextureSlot::metallic_roughness;
-  if (texture_at(scene, m.emissive_texture)) f->textures = f->textures | TextureSlot::emissive;
+    f->textures = f->textures | TexturedSlots::base_colour;
+  if (mr_texture) f->textures = f->textures | TexturedSlots::metallic_roughness;
+  if (texture_at(scene, m.emissive_texture)) f->textures = f->textures | TexturedSlots::emissive;
   if (smallest_roughness(scene, m) <= kMirrorRoughness) f->mirror = true;
-  // The texture's blue channel scales metallic down, so with one the surface may be partly
-  // dielectric and refract even when the factor says metal.
-  if (std::clamp(m.transmission, 0.0f, 1.0f) > 0.0f && (m.metallic < 1.0f || mr_texture))
-    f->transmission = true;
+  if (refracts(scene, m)) f->transmission = true;
   // The emissive texture only scales the factor, so a zero factor never emits.
   if (m.emissive.x > 0.0f || m.emissive.y > 0.0f || m.emissive.z > 0.0f) f->emission = true;
 }
@@ -65,11 +90,39 @@ size_t triangle_count(const Mesh& mesh) {
   return n;
 }
 
+// The object-space vertex normal shared by every vertex that has one, in `*normal` (zero when
+// no primitive has normals): false when two differ, so that the normals bend the shading.
+bool one_vertex_normal(const Mesh& mesh, V3f* normal) {
+  *normal = V3f(0.0f);
+  for (const Primitive& p : mesh.primitives) {
+    // Normals not one per vertex are dropped: the primitive is shaded flat (embree_scene.cpp).
+    if (p.normals.size() != p.positions.size()) continue;
+    for (const V3f& n : p.normals) {
+      // A zero or non-finite normal is rebuilt from the faces around it.
+      if (!(n.length2() > 0.0f) || !std::isfinite(n.length2())) return false;
+      if (*normal == V3f(0.0f))
+        *normal = n;
+      else if (n != *normal)
+        return false;
+    }
+  }
+  return true;
+}
+
 // True when the placed mesh lies in one plane that no point or spot light lies in and no
 // directional light travels along: then a shadow ray leaving one of its points meets the
-// plane only where it starts, whatever the shading normals say.
+// plane only where it starts. Without vertex normals the shading normal is the plane's, so
+// the ray leaves on the light's side exactly. With them, they must all be the same normal
+// leaning by at most kNormalLean off the plane's, and every light must be kLightClearance
+// off the plane as seen from every vertex (so from every point, as the plane's points lie in
+// their convex hull): otherwise a shading normal bent towards a light behind the plane, or
+// the shadow ray's start moved by Hanika's offset, lets the ray cross the plane.
 bool flat_and_lit_off_plane(const SceneDescription& scene, const MeshInstance& instance) {
   const Mesh& mesh = scene.meshes[static_cast<size_t>(instance.mesh)];
+  V3f vertex_normal;
+  if (!one_vertex_normal(mesh, &vertex_normal)) return false;
+  for (const Primitive& p : mesh.primitives)
+    if (normal_mapped(scene, p.material)) return false;
   std::vector<V3d> points;
   for (const Primitive& p : mesh.primitives)
     for (uint32_t i : p.indices) {
@@ -97,6 +150,21 @@ bool flat_and_lit_off_plane(const SceneDescription& scene, const MeshInstance& i
   normal /= largest;
   for (const V3d& p : points)
     if (std::abs((p - origin).dot(normal)) > tolerance) return false;
+  if (vertex_normal != V3f(0.0f)) {
+    // Normals move with the inverse transpose (embree_scene.cpp).
+    V3d placed;
+    instance.object_to_world.inverse().transposed().multDirMatrix(V3d(vertex_normal), placed);
+    const double length = placed.length();
+    if (!(length > 0.0) || placed.cross(normal).length() > kNormalLean * length) return false;
+    for (const Light& light : scene.lights) {
+      for (const V3d& p : points) {
+        const V3d to_light =
+            light.type == LightType::directional ? light.direction : light.position - p;
+        if (!(std::abs(to_light.dot(normal)) > kLightClearance * to_light.length())) return false;
+        if (light.type == LightType::directional) break;
+      }
+    }
+  }
   for (const Light& light : scene.lights) {
     if (light.type == LightType::directional) {
       const double length = light.direction.length();
@@ -109,14 +177,37 @@ bool flat_and_lit_off_plane(const SceneDescription& scene, const MeshInstance& i
   return true;
 }
 
+// Whether any ray can reach the inside of the sphere: a refracting material lets rays in,
+// and a camera inside starts them there. An orthographic camera's rays start anywhere on
+// its image plane, whose width depends on the image's aspect, so it always counts. A scene
+// without a camera gets add_scene_defaults' camera, which frames the scene from outside.
+bool sphere_inside_seen(const SceneDescription& scene, const Sphere& sphere) {
+  const MaterialDescription* m = material_at(scene, sphere.material);
+  if (m && refracts(scene, *m)) return true;
+  for (const CameraDescription& camera : scene.cameras) {
+    if (camera.projection != Projection::perspective) return true;
+    if (!((camera_position(camera) - sphere.centre).length() >
+          sphere.radius * (1.0 + kPlanarTolerance)))
+      return true;
+  }
+  return false;
+}
+
+bool light_outside(const Sphere& sphere, const Light& light) {
+  return light.type == LightType::directional ||
+         !((light.position - sphere.centre).length() < sphere.radius * (1.0 - kPlanarTolerance));
+}
+
 // The shadow rule. A shadow ray is only ever blocked by geometry between a lit point and a
 // light, so:
 //   - no light, or no geometry: nothing to block;
 //   - two or more objects (mesh instances with triangles, spheres): one may block another;
 //   - one sphere rendered exactly (analytic or Embree points): a convex surface with its
-//     true normal, so a point facing a light sees it (from outside, the whole sphere lies
-//     behind the tangent plane; from inside, the segment stays inside) and a point facing
-//     away is dark before any shadow ray;
+//     true normal. Seen from outside, a point facing a light sees it (the whole sphere lies
+//     behind the tangent plane) and a point facing away is dark before any shadow ray. Seen
+//     from inside, a light inside is seen too (the segment stays inside), but the far wall
+//     blocks a light outside: so it may shadow when some light is outside and its inside
+//     can be seen (sphere_inside_seen);
 //   - one sphere as an icosphere: its interpolated normals face some lights its flat faces
 //     do not, so near the terminator its own faces block shadow rays;
 //   - one flat mesh (all triangles in one plane) with no light in that plane: cannot block
@@ -128,7 +219,14 @@ bool can_shadow(const SceneDescription& scene, const SphereOptions& spheres,
                 const SceneFeatures& f) {
   if (f.lights == LightKinds::none || f.objects == 0) return false;
   if (f.objects >= 2) return true;
-  if (f.spheres == 1) return spheres.mode == SphereMode::mesh;
+  if (f.spheres == 1) {
+    if (spheres.mode == SphereMode::mesh) return true;
+    const Sphere& sphere = scene.spheres.front();
+    if (normal_mapped(scene, sphere.material)) return true;
+    if (!sphere_inside_seen(scene, sphere)) return false;
+    return std::any_of(scene.lights.begin(), scene.lights.end(),
+                       [&](const Light& light) { return light_outside(sphere, light); });
+  }
   for (const MeshInstance& instance : scene.instances) {
     if (instance.mesh < 0 || static_cast<size_t>(instance.mesh) >= scene.meshes.size()) continue;
     if (triangle_count(scene.meshes[static_cast<size_t>(instance.mesh)]) == 0) continue;
@@ -139,6 +237,13 @@ bool can_shadow(const SceneDescription& scene, const SphereOptions& spheres,
 
 std::string yes_no(bool b) {
   return b ? "yes" : "no";
+}
+
+std::string alpha_modes(const SceneFeatures& f) {
+  return f.alpha_mask && f.alpha_blend ? "mask+blend"
+         : f.alpha_mask                ? "mask"
+         : f.alpha_blend               ? "blend"
+                                       : "none";
 }
 
 }  // namespace
@@ -153,7 +258,12 @@ SceneFeatures derive_scene_features(const SceneDescription& scene, const SphereO
     f.triangles += triangles;
     ++f.objects;
     for (const Primitive& p : mesh.primitives)
-      if (p.indices.size() >= 3) add_material(scene, p.material, &f);
+      if (p.indices.size() >= 3) {
+        add_material(scene, p.material, &f);
+        const MaterialDescription* m = material_at(scene, p.material);
+        if (m && m->alpha_mode == AlphaMode::mask) f.alpha_mask = true;
+        if (m && m->alpha_mode == AlphaMode::blend) f.alpha_blend = true;
+      }
   }
   if (f.triangles > 0) f.geometry = f.geometry | GeometryKind::triangles;
   f.spheres = scene.spheres.size();
@@ -217,14 +327,14 @@ std::string to_string(LightKinds lights) {
   return "none";
 }
 
-std::string to_string(TextureSlot textures) {
+std::string to_string(TexturedSlots textures) {
   std::string s;
-  const auto add = [&](TextureSlot slot, const char* name) {
+  const auto add = [&](TexturedSlots slot, const char* name) {
     if (has(textures, slot)) s += (s.empty() ? "" : "+") + std::string(name);
   };
-  add(TextureSlot::base_colour, "base-colour");
-  add(TextureSlot::metallic_roughness, "metallic-roughness");
-  add(TextureSlot::emissive, "emissive");
+  add(TexturedSlots::base_colour, "base-colour");
+  add(TexturedSlots::metallic_roughness, "metallic-roughness");
+  add(TexturedSlots::emissive, "emissive");
   return s.empty() ? "none" : s;
 }
 
@@ -232,7 +342,7 @@ std::string to_string(const SceneFeatures& f) {
   return "geometry=" + to_string(f.geometry) + " lights=" + to_string(f.lights) +
          " textures=" + to_string(f.textures) + " mirror=" + yes_no(f.mirror) +
          " transmission=" + yes_no(f.transmission) + " emission=" + yes_no(f.emission) +
-         " shadows=" + yes_no(f.shadows);
+         " alpha=" + alpha_modes(f) + " shadows=" + yes_no(f.shadows);
 }
 
 std::vector<std::pair<std::string, std::string>> feature_metadata(const SceneFeatures& f) {
@@ -243,7 +353,8 @@ std::vector<std::pair<std::string, std::string>> feature_metadata(const SceneFea
           {"featureMirror", yes_no(f.mirror)},
           {"featureTransmission", yes_no(f.transmission)},
           {"featureEmission", yes_no(f.emission)},
-          {"featureShadows", yes_no(f.shadows)}};
+          {"featureShadows", yes_no(f.shadows)},
+          {"featureAlpha", alpha_modes(f)}};
 }
 
 }  // namespace prism

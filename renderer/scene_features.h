@@ -31,7 +31,7 @@ enum class GeometryKind : uint8_t {
 };
 
 // Which material slots sample a texture. Bit flags.
-enum class TextureSlot : uint8_t {
+enum class TexturedSlots : uint8_t {
   none = 0,
   base_colour = 1 << 0,
   metallic_roughness = 1 << 1,
@@ -44,10 +44,10 @@ constexpr GeometryKind operator|(GeometryKind a, GeometryKind b) {
 constexpr bool has(GeometryKind set, GeometryKind kind) {
   return (static_cast<uint8_t>(set) & static_cast<uint8_t>(kind)) != 0;
 }
-constexpr TextureSlot operator|(TextureSlot a, TextureSlot b) {
-  return static_cast<TextureSlot>(static_cast<uint8_t>(a) | static_cast<uint8_t>(b));
+constexpr TexturedSlots operator|(TexturedSlots a, TexturedSlots b) {
+  return static_cast<TexturedSlots>(static_cast<uint8_t>(a) | static_cast<uint8_t>(b));
 }
-constexpr bool has(TextureSlot set, TextureSlot slot) {
+constexpr bool has(TexturedSlots set, TexturedSlots slot) {
   return (static_cast<uint8_t>(set) & static_cast<uint8_t>(slot)) != 0;
 }
 
@@ -62,7 +62,7 @@ enum class LightKinds : uint8_t {
 struct SceneFeatures {
   GeometryKind geometry = GeometryKind::none;
   LightKinds lights = LightKinds::none;
-  TextureSlot textures = TextureSlot::none;
+  TexturedSlots textures = TexturedSlots::none;
   // Some used material has roughness <= kMirrorRoughness somewhere (factor times the
   // metallic-roughness texture's smallest green value): whitted traces mirror rays.
   bool mirror = false;
@@ -70,6 +70,10 @@ struct SceneFeatures {
   bool transmission = false;
   // Some used material has a non-zero emissive factor.
   bool emission = false;
+  // Some mesh primitive's material has alphaMode MASK, or BLEND: its triangles carry alpha
+  // filters, for every kind of ray (renderer/alpha_filter.h). Spheres ignore alpha.
+  bool alpha_mask = false;
+  bool alpha_blend = false;
   // A shadow ray can be blocked somewhere (rule in scene_features.cpp and docs/info.md).
   bool shadows = false;
 
@@ -93,14 +97,15 @@ std::string to_string(GeometryKind geometry);
 // "none", "directional-only", "positional".
 std::string to_string(LightKinds lights);
 // "base-colour+emissive", "none", ...
-std::string to_string(TextureSlot textures);
+std::string to_string(TexturedSlots textures);
 
 // One line for the user: "geometry=triangles+analytic-spheres lights=positional
-// textures=base-colour mirror=yes transmission=yes emission=no shadows=yes".
+// textures=base-colour mirror=yes transmission=yes emission=no alpha=none shadows=yes"
+// (alpha: none, mask, blend or mask+blend).
 std::string to_string(const SceneFeatures& features);
 
 // The same as EXR metadata pairs (prism:<key> once written): "features" holding the line
-// above, and one key per flag ("featureGeometry", "featureShadows", ...).
+// above, and one key per flag ("featureGeometry", "featureShadows", ..., "featureAlpha").
 std::vector<std::pair<std::string, std::string>> feature_metadata(const SceneFeatures& features);
 
 }  // namespace prism

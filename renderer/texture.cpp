@@ -2,10 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
+
+#include <tbb/parallel_for.h>
 
 #include "renderer/colour.h"
 
 namespace prism {
+
+using Imath::V2f;
+using Imath::V4f;
+
 namespace {
 
 // Texel index for an integer coordinate outside [0, size) under a wrap mode.
@@ -27,49 +35,165 @@ int wrap_index(long long i, int size, TextureWrap wrap) {
   }
 }
 
+// One axis of a box-filtered reduction from `from` to `to` texels: output texel i averages
+// the input over [i r, (i + 1) r), r = from / to, with fractional weights at the ends, so
+// every level keeps the image's mean exactly (up to rounding) whatever its size, odd or not.
+struct BoxTap {
+  int first = 0;
+  std::vector<float> weights;
+};
+
+std::vector<BoxTap> box_taps(int from, int to) {
+  std::vector<BoxTap> taps(static_cast<size_t>(to));
+  const double r = static_cast<double>(from) / to;
+  for (int i = 0; i < to; ++i) {
+    const double a = i * r, b = (i + 1) * r;
+    BoxTap& tap = taps[static_cast<size_t>(i)];
+    tap.first = static_cast<int>(std::floor(a));
+    for (int j = tap.first; j < from && j < b; ++j) {
+      const double overlap = std::min<double>(j + 1, b) - std::max<double>(j, a);
+      tap.weights.push_back(static_cast<float>(overlap / r));
+    }
+  }
+  return taps;
+}
+
 }  // namespace
 
-Texture::Texture(const TextureImage& image, const ColourPipeline& colour)
-    : width_(image.width), height_(image.height), wrap_s_(image.wrap_s), wrap_t_(image.wrap_t) {
-  const size_t count = static_cast<size_t>(width_) * height_;
+std::shared_ptr<const std::vector<Texture::Level>> Texture::build_levels(
+    const TextureImage& image, const ColourPipeline& colour) {
+  auto levels = std::make_shared<std::vector<Level>>();
+  Level base;
+  base.width = image.width;
+  base.height = image.height;
+  const size_t count = static_cast<size_t>(base.width) * base.height;
   std::vector<float> rgb(count * 3);
-  texels_.resize(count);
+  base.texels.resize(count);
   const int c = image.channels;
   for (size_t i = 0; i < count; ++i) {
     const float* t = &image.texels[i * c];
     // Grey and grey-alpha images broadcast their grey value; alpha defaults to opaque.
-    const float r = t[0];
-    const float g = c >= 3 ? t[1] : t[0];
-    const float b = c >= 3 ? t[2] : t[0];
-    const float a = c == 4 ? t[3] : (c == 2 ? t[1] : 1.0f);
-    rgb[i * 3 + 0] = r;
-    rgb[i * 3 + 1] = g;
-    rgb[i * 3 + 2] = b;
-    texels_[i].w = a;
+    rgb[i * 3 + 0] = t[0];
+    rgb[i * 3 + 1] = c >= 3 ? t[1] : t[0];
+    rgb[i * 3 + 2] = c >= 3 ? t[2] : t[0];
+    base.texels[i].w = c == 4 ? t[3] : (c == 2 ? t[1] : 1.0f);
   }
   if (image.encoding == TextureEncoding::srgb) colour.srgb_texture_to_working(rgb.data(), count, 3);
   for (size_t i = 0; i < count; ++i) {
-    texels_[i].x = rgb[i * 3 + 0];
-    texels_[i].y = rgb[i * 3 + 1];
-    texels_[i].z = rgb[i * 3 + 2];
+    base.texels[i].x = rgb[i * 3 + 0];
+    base.texels[i].y = rgb[i * 3 + 1];
+    base.texels[i].z = rgb[i * 3 + 2];
   }
+  levels->push_back(std::move(base));
+  // Filtered in linear values (after linearisation), as a texture's mean radiance should be.
+  while (levels->back().width > 1 || levels->back().height > 1) {
+    const Level& fine = levels->back();
+    Level coarse;
+    coarse.width = std::max(1, fine.width / 2);
+    coarse.height = std::max(1, fine.height / 2);
+    const std::vector<BoxTap> tx = box_taps(fine.width, coarse.width);
+    const std::vector<BoxTap> ty = box_taps(fine.height, coarse.height);
+    std::vector<V4f> rows(static_cast<size_t>(coarse.width) * fine.height);
+    for (int y = 0; y < fine.height; ++y)
+      for (int x = 0; x < coarse.width; ++x) {
+        V4f sum(0.0f);
+        const BoxTap& tap = tx[static_cast<size_t>(x)];
+        for (size_t k = 0; k < tap.weights.size(); ++k)
+          sum += fine.texel(tap.first + static_cast<int>(k), y) * tap.weights[k];
+        rows[static_cast<size_t>(y) * coarse.width + x] = sum;
+      }
+    coarse.texels.assign(static_cast<size_t>(coarse.width) * coarse.height, V4f(0.0f));
+    for (int y = 0; y < coarse.height; ++y) {
+      const BoxTap& tap = ty[static_cast<size_t>(y)];
+      for (size_t k = 0; k < tap.weights.size(); ++k) {
+        const V4f* row = &rows[static_cast<size_t>(tap.first + static_cast<int>(k)) * coarse.width];
+        for (int x = 0; x < coarse.width; ++x)
+          coarse.texels[static_cast<size_t>(y) * coarse.width + x] += row[x] * tap.weights[k];
+      }
+    }
+    levels->push_back(std::move(coarse));
+  }
+  return levels;
 }
 
-Imath::V4f Texture::sample(const Imath::V2f& uv) const {
-  // Texel centres sit at half-integer coordinates.
-  const float x = uv.x * static_cast<float>(width_) - 0.5f;
-  const float y = uv.y * static_cast<float>(height_) - 0.5f;
+Texture::Texture(std::shared_ptr<const std::vector<Level>> levels, const TextureImage& sampler)
+    : levels_(std::move(levels)),
+      wrap_s_(sampler.wrap_s),
+      wrap_t_(sampler.wrap_t),
+      mag_filter_(sampler.mag_filter),
+      min_filter_(sampler.min_filter),
+      mip_mode_(sampler.mip_mode) {}
+
+Texture::Texture(const TextureImage& image, const ColourPipeline& colour)
+    : Texture(build_levels(image, colour), image) {}
+
+V4f Texture::lookup(const Level& level, const V2f& uv, TextureFilter filter) const {
+  const float w = static_cast<float>(level.width), h = static_cast<float>(level.height);
   // Beyond 2^40 texels a float UV has no fractional texel left; clamping there keeps the
   // integer conversion defined without changing any representable lookup.
   constexpr float kLimit = 1099511627776.0f;
-  if (!(std::fabs(x) < kLimit) || !(std::fabs(y) < kLimit)) return texel(0, 0);
+  if (!(std::fabs(uv.x * w) < kLimit) || !(std::fabs(uv.y * h) < kLimit)) return level.texel(0, 0);
+  if (filter == TextureFilter::nearest) {
+    const auto ix = static_cast<long long>(std::floor(uv.x * w));
+    const auto iy = static_cast<long long>(std::floor(uv.y * h));
+    return level.texel(wrap_index(ix, level.width, wrap_s_), wrap_index(iy, level.height, wrap_t_));
+  }
+  // Texel centres sit at half-integer coordinates.
+  const float x = uv.x * w - 0.5f, y = uv.y * h - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float wx = x - fx, wy = y - fy;
   const auto ix = static_cast<long long>(fx), iy = static_cast<long long>(fy);
-  const int x0 = wrap_index(ix, width_, wrap_s_), x1 = wrap_index(ix + 1, width_, wrap_s_);
-  const int y0 = wrap_index(iy, height_, wrap_t_), y1 = wrap_index(iy + 1, height_, wrap_t_);
-  return (texel(x0, y0) * (1.0f - wx) + texel(x1, y0) * wx) * (1.0f - wy) +
-         (texel(x0, y1) * (1.0f - wx) + texel(x1, y1) * wx) * wy;
+  const int x0 = wrap_index(ix, level.width, wrap_s_),
+            x1 = wrap_index(ix + 1, level.width, wrap_s_);
+  const int y0 = wrap_index(iy, level.height, wrap_t_),
+            y1 = wrap_index(iy + 1, level.height, wrap_t_);
+  return (level.texel(x0, y0) * (1.0f - wx) + level.texel(x1, y0) * wx) * (1.0f - wy) +
+         (level.texel(x0, y1) * (1.0f - wx) + level.texel(x1, y1) * wx) * wy;
+}
+
+V4f Texture::sample(const V2f& uv, float footprint) const {
+  const std::vector<Level>& levels = *levels_;
+  const Level& base = levels.front();
+  // The footprint in texels of the full image; its log2 is the mip level whose texels are
+  // as wide as the footprint. A zero, negative or NaN footprint (unknown) magnifies.
+  const float texels = footprint * std::sqrt(static_cast<float>(base.width) * base.height);
+  const float lod = texels > 1.0f ? std::log2(texels) : 0.0f;
+  if (!(lod > 0.0f)) return lookup(base, uv, mag_filter_);
+  if (mip_mode_ == MipMode::none) return lookup(base, uv, min_filter_);
+  const float last = static_cast<float>(levels.size() - 1);
+  const float level = std::min(lod, last);
+  if (mip_mode_ == MipMode::nearest)
+    return lookup(levels[static_cast<size_t>(std::lround(level))], uv, min_filter_);
+  const float lower = std::floor(level);
+  const float blend = level - lower;
+  const V4f a = lookup(levels[static_cast<size_t>(lower)], uv, min_filter_);
+  if (blend == 0.0f) return a;
+  const V4f b = lookup(levels[static_cast<size_t>(lower) + 1], uv, min_filter_);
+  return a * (1.0f - blend) + b * blend;
+}
+
+std::vector<Texture> make_textures(const std::vector<TextureImage>& images,
+                                   const ColourPipeline& colour) {
+  // Which description first holds each distinct (decoded image, encoding): that one's
+  // pyramid is built, the others share it. Descriptions without an image index (made in
+  // code rather than loaded) are each their own.
+  std::map<std::pair<int, TextureEncoding>, size_t> first;
+  std::vector<size_t> owner(images.size());
+  for (size_t i = 0; i < images.size(); ++i) {
+    owner[i] =
+        images[i].image < 0
+            ? i
+            : first.emplace(std::make_pair(images[i].image, images[i].encoding), i).first->second;
+  }
+  std::vector<std::shared_ptr<const std::vector<Texture::Level>>> levels(images.size());
+  tbb::parallel_for(size_t{0}, images.size(), [&](size_t i) {
+    if (owner[i] == i) levels[i] = Texture::build_levels(images[i], colour);
+  });
+  std::vector<Texture> textures;
+  textures.reserve(images.size());
+  for (size_t i = 0; i < images.size(); ++i)
+    textures.push_back(Texture(levels[owner[i]], images[i]));
+  return textures;
 }
 
 }  // namespace prism

@@ -52,6 +52,10 @@ const char* type_name(int components) {
       return "VEC2";
     case 3:
       return "VEC3";
+    case 4:
+      return "VEC4 (or MAT2)";
+    case 16:
+      return "MAT4";
     default:
       return "a type with more components";
   }
@@ -102,11 +106,24 @@ AccessorView view_accessor(const tinygltf::Model& model, int index, const std::s
          "accessor " + std::to_string(index) + " out of range (" +
              std::to_string(model.accessors.size()) + " accessors)");
   }
+  // load_gltf densifies sparse accessors before any is viewed (apply_sparse_accessors).
+  if (model.accessors[static_cast<std::size_t>(index)].sparse.isSparse) {
+    fail(file, "accessors[" + std::to_string(index) + "]", "sparse accessor was not densified");
+  }
+  return view_base_accessor(model, index, referrer, file);
+}
+
+AccessorView view_base_accessor(const tinygltf::Model& model, int index,
+                                const std::string& referrer, const std::string& file) {
+  if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
+    fail(file, referrer,
+         "accessor " + std::to_string(index) + " out of range (" +
+             std::to_string(model.accessors.size()) + " accessors)");
+  }
   const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(index)];
   AccessorView view;
   view.index = index;
   const std::string element = view.element();
-  if (accessor.sparse.isSparse) fail(file, element, "sparse accessors are not supported");
 
   view.component_type = accessor.componentType;
   view.component_size = component_size(accessor.componentType);
@@ -176,13 +193,38 @@ AccessorView view_accessor(const tinygltf::Model& model, int index, const std::s
   return view;
 }
 
-std::vector<V3f> read_vec3_float(const AccessorView& view, const std::string& what,
-                                 const std::string& file) {
-  expect_components(view, 3, what, file);
+int append_buffer_view(tinygltf::Model& model, std::vector<unsigned char> bytes) {
+  tinygltf::BufferView view;
+  view.buffer = static_cast<int>(model.buffers.size());
+  view.byteOffset = 0;
+  view.byteLength = bytes.size();
+  view.byteStride = 0;
+  tinygltf::Buffer buffer;
+  buffer.data = std::move(bytes);
+  model.buffers.push_back(std::move(buffer));
+  model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size() - 1);
+}
+
+std::size_t accessor_element_size(int component_type, int type) {
+  return component_size(component_type) * static_cast<std::size_t>(component_count(type));
+}
+
+namespace {
+
+void expect_float(const AccessorView& view, const std::string& what, const std::string& file) {
   if (view.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
     fail(file, view.element(),
          what + " must have componentType FLOAT, not " + component_type_name(view.component_type));
   }
+}
+
+}  // namespace
+
+std::vector<V3f> read_vec3_float(const AccessorView& view, const std::string& what,
+                                 const std::string& file) {
+  expect_components(view, 3, what, file);
+  expect_float(view, what, file);
   std::vector<V3f> out(view.count, V3f(0.0f));
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
@@ -240,6 +282,70 @@ std::vector<uint32_t> read_indices(const AccessorView& view, const std::string& 
     } else {
       out[i] = load<uint32_t>(p);
     }
+  }
+  return out;
+}
+
+std::vector<std::array<uint32_t, 4>> read_joints(const AccessorView& view, const std::string& what,
+                                                 const std::string& file) {
+  expect_components(view, 4, what, file);
+  const int type = view.component_type;
+  if ((type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+       type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) ||
+      view.normalized) {
+    fail(file, view.element(),
+         what + " must be UNSIGNED_BYTE or UNSIGNED_SHORT, not " +
+             (view.normalized ? "normalized " : "") + component_type_name(type));
+  }
+  std::vector<std::array<uint32_t, 4>> out(view.count, {0, 0, 0, 0});
+  if (!view.data) return out;
+  for (std::size_t i = 0; i < view.count; ++i) {
+    const unsigned char* p = view.data + i * view.stride;
+    for (int c = 0; c < 4; ++c) {
+      out[i][c] = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? p[c] : load<uint16_t>(p + 2 * c);
+    }
+  }
+  return out;
+}
+
+std::vector<std::array<float, 4>> read_weights(const AccessorView& view, const std::string& what,
+                                               const std::string& file) {
+  expect_components(view, 4, what, file);
+  const int type = view.component_type;
+  const bool normalized_integer = (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                   type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) &&
+                                  view.normalized;
+  if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_integer) {
+    fail(file, view.element(),
+         what + " must be FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT, not " +
+             (view.normalized ? "normalized " : "") + component_type_name(type));
+  }
+  std::vector<std::array<float, 4>> out(view.count, {0.0f, 0.0f, 0.0f, 0.0f});
+  if (!view.data) return out;
+  for (std::size_t i = 0; i < view.count; ++i) {
+    const unsigned char* p = view.data + i * view.stride;
+    for (int c = 0; c < 4; ++c) {
+      if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+        out[i][c] = load<float>(p + 4 * c);
+      } else if (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+        out[i][c] = p[c] / 255.0f;
+      } else {
+        out[i][c] = load<uint16_t>(p + 2 * c) / 65535.0f;
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<M44d> read_mat4_float(const AccessorView& view, const std::string& what,
+                                  const std::string& file) {
+  expect_components(view, 16, what, file);
+  expect_float(view, what, file);
+  std::vector<M44d> out(view.count, M44d(0.0));
+  if (!view.data) return out;
+  for (std::size_t i = 0; i < view.count; ++i) {
+    const unsigned char* p = view.data + i * view.stride;
+    for (int k = 0; k < 16; ++k) out[i][k / 4][k % 4] = load<float>(p + 4 * k);
   }
   return out;
 }

@@ -1,6 +1,7 @@
 // Bounds-checked access to glTF accessor data held by a tinygltf::Model.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -31,11 +32,34 @@ struct AccessorView {
 AccessorView view_accessor(const tinygltf::Model& model, int index, const std::string& referrer,
                            const std::string& file);
 
+// The same checks as view_accessor, for the accessor's own bufferView (or zeros) whether or
+// not it is sparse: the base that apply_sparse_accessors (gltf_sparse.h) substitutes into.
+AccessorView view_base_accessor(const tinygltf::Model& model, int index,
+                                const std::string& referrer, const std::string& file);
+
+// Appends `bytes` to the model as a new buffer with one tightly packed bufferView over it and
+// returns the bufferView's index. Draco decoding and sparse substitution rewrite accessors onto
+// such views before the scene is converted, so every reader downstream sees plain accessors
+// and applies its usual checks.
+int append_buffer_view(tinygltf::Model& model, std::vector<unsigned char> bytes);
+
+// Bytes per element of componentType x type (0 when either is invalid).
+std::size_t accessor_element_size(int component_type, int type);
+
 // Each reader checks the accessor's type and component type for its purpose, then copies.
 std::vector<V3f> read_vec3_float(const AccessorView& view, const std::string& what,
                                  const std::string& file);
 std::vector<V2f> read_texcoords(const AccessorView& view, const std::string& file);
 std::vector<uint32_t> read_indices(const AccessorView& view, const std::string& file);
+// Skinning: JOINTS_n (VEC4 UNSIGNED_BYTE/SHORT), WEIGHTS_n (VEC4 FLOAT or normalised
+// UNSIGNED_BYTE/SHORT), inverseBindMatrices (MAT4 FLOAT, column-major as glTF stores it, loaded
+// as M[i][j] = m[4i + j]: Imath's row-vector convention, like node matrices).
+std::vector<std::array<uint32_t, 4>> read_joints(const AccessorView& view, const std::string& what,
+                                                 const std::string& file);
+std::vector<std::array<float, 4>> read_weights(const AccessorView& view, const std::string& what,
+                                               const std::string& file);
+std::vector<M44d> read_mat4_float(const AccessorView& view, const std::string& what,
+                                  const std::string& file);
 
 const char* component_type_name(int component_type);
 

@@ -13,9 +13,12 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<const char*, 6> kSupportedExtensions = {
-    "KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior",
-    "KHR_materials_emissive_strength", "KHR_materials_specular", "PRISM_sphere"};
+constexpr std::array<const char*, 9> kSupportedExtensions = {
+    "KHR_lights_punctual",        "KHR_materials_transmission",
+    "KHR_materials_ior",          "KHR_materials_emissive_strength",
+    "KHR_materials_specular",     "PRISM_sphere",
+    "KHR_draco_mesh_compression", "KHR_materials_pbrSpecularGlossiness",
+    "KHR_texture_transform"};
 
 class Checker {
  public:
@@ -237,6 +240,14 @@ void check_material(const Checker& c, const json& m, const std::string& p) {
     if (auto t = ext->find("KHR_materials_emissive_strength"); t != ext->end()) {
       c.number(*t, "emissiveStrength", ep + ".KHR_materials_emissive_strength");
     }
+    if (auto t = ext->find("KHR_materials_pbrSpecularGlossiness"); t != ext->end()) {
+      const std::string sp = ep + ".KHR_materials_pbrSpecularGlossiness";
+      c.number_array(*t, "diffuseFactor", sp, 4);
+      c.number_array(*t, "specularFactor", sp, 3);
+      c.number(*t, "glossinessFactor", sp);
+      c.texture_info(*t, "diffuseTexture", sp);
+      c.texture_info(*t, "specularGlossinessTexture", sp);
+    }
   }
 }
 
@@ -270,8 +281,18 @@ void check_primitive(const Checker& c, const json& prim, const std::string& p) {
   c.index(prim, "indices", p);
   c.index(prim, "material", p);
   c.unsigned_int(prim, "mode", p, false);
-  if (const json* targets = c.find(prim, "targets", p, false); targets && !targets->is_array()) {
-    c.error(p + ".targets", "expected an array, got " + Checker::type_name(*targets));
+  c.object_array(prim, "targets", p, [&](const json& target, const std::string& tp) {
+    for (const auto& [name, value] : target.items()) c.check_index(value, tp + "." + name);
+  });
+  if (auto ext = prim.find("extensions"); ext != prim.end()) {
+    if (auto d = ext->find("KHR_draco_mesh_compression"); d != ext->end()) {
+      const std::string dp = p + ".extensions.KHR_draco_mesh_compression";
+      c.index(*d, "bufferView", dp, true);
+      const json* attributes = c.sub_object(*d, "attributes", dp, true);
+      for (const auto& [name, value] : attributes->items()) {
+        c.check_index(value, dp + ".attributes." + name);
+      }
+    }
   }
 }
 
@@ -395,7 +416,21 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
     c.string(a, "type", p, true);
     c.number_array(a, "min", p, 0);
     c.number_array(a, "max", p, 0);
-    c.sub_object(a, "sparse", p);
+    if (const json* sparse = c.sub_object(a, "sparse", p)) {
+      // tinygltf stores the count and byte offsets of sparse accessors as int.
+      const std::string sp = p + ".sparse";
+      const json* count = c.find(*sparse, "count", sp, true);
+      if (!Checker::integral(*count, 1, std::numeric_limits<int>::max())) {
+        c.error(sp + ".count", "expected an integer >= 1, got " + Checker::describe(*count));
+      }
+      for (const char* part : {"indices", "values"}) {
+        const json* o = c.sub_object(*sparse, part, sp, true);
+        const std::string pp = sp + "." + part;
+        c.index(*o, "bufferView", pp, true);
+        c.index(*o, "byteOffset", pp);
+        if (std::string(part) == "indices") c.unsigned_int(*o, "componentType", pp, true);
+      }
+    }
   });
   c.object_array(root, "bufferViews", "", [&](const json& v, const std::string& p) {
     c.index(v, "buffer", p, true);
@@ -427,7 +462,12 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
   });
   c.object_array(root, "cameras", "",
                  [&](const json& cam, const std::string& p) { check_camera(c, cam, p); });
-  c.object_array(root, "skins", "", nothing);
+  c.object_array(root, "skins", "", [&](const json& s, const std::string& p) {
+    c.index(s, "inverseBindMatrices", p);
+    c.index(s, "skeleton", p);
+    if (!s.contains("joints")) c.error(p + ".joints", "required property is missing");
+    c.index_array(s, "joints", p);
+  });
   c.object_array(root, "animations", "", nothing);
 
   if (auto ext = root.find("extensions"); ext != root.end()) {

@@ -30,4 +30,9 @@ inline constexpr std::size_t kMaxImageTexels = std::size_t{1} << 26;  // 64 Mi, 
 // All images of a file together (tinygltf decodes every image, used or not).
 inline constexpr std::size_t kMaxTotalImageTexels = std::size_t{1} << 27;  // 128 Mi
 
+// A sparse accessor without a bufferView is zeros plus its substitutions; the loader allocates
+// it whole (count x element size), so a tiny file must not be able to claim gigabytes. With a
+// bufferView the file's own bytes already bound it.
+inline constexpr std::size_t kMaxZeroFilledSparseBytes = std::size_t{1} << 28;  // 256 MiB
+
 }  // namespace prism::gltf_limits

@@ -12,15 +12,22 @@
 #include <optional>
 #include <tuple>
 
-#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 #include <nlohmann/json.hpp>
 
 #include "renderer/math.h"
+#include "renderer/tangents.h"
 #include "scene_io/gltf_accessors.h"
+#include "scene_io/gltf_attributes.h"
+#include "scene_io/gltf_draco.h"
 #include "scene_io/gltf_error.h"
+#include "scene_io/gltf_images.h"
 #include "scene_io/gltf_json_check.h"
 #include "scene_io/gltf_limits.h"
+#include "scene_io/gltf_rest_pose.h"
+#include "scene_io/gltf_scene_select.h"
+#include "scene_io/gltf_sparse.h"
+#include "scene_io/gltf_specular_glossiness.h"
 
 namespace prism {
 
@@ -34,15 +41,20 @@ std::vector<unsigned char> read_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "file", "does not exist");
   if (!std::filesystem::is_regular_file(path, ec)) fail(path, "file", "is not a regular file");
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) fail(path, "file", std::string("cannot be opened: ") + std::strerror(errno));
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) fail(path, "file", "read error");
-  // tinygltf takes lengths as unsigned int.
-  if (bytes.size() >= std::numeric_limits<unsigned int>::max()) {
+  const std::streamoff size = in.tellg();
+  if (size < 0) fail(path, "file", "cannot tell its size");
+  // tinygltf takes lengths as unsigned int; checked before anything is allocated.
+  if (static_cast<std::uint64_t>(size) >= std::numeric_limits<unsigned int>::max()) {
     fail(path, "file", "larger than 4 GiB");
   }
+  // One read of the known size: a byte-wise istreambuf_iterator copy cost 8x the rest of
+  // loading a million-triangle GLB (callgrind, docs/benchmarks.md).
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  in.seekg(0);
+  in.read(reinterpret_cast<char*>(bytes.data()), size);
+  if (in.gcount() != size) fail(path, "file", "read error");
   return bytes;
 }
 
@@ -75,6 +87,28 @@ std::string glb_json(const std::vector<unsigned char>& bytes, const std::string&
   if (le32(bytes.data() + 16) != 0x4E4F534Au) fail(file, "GLB", "first chunk is not JSON");
   if (chunk_length > length - 20) fail(file, "GLB", "JSON chunk exceeds the file");
   return std::string(reinterpret_cast<const char*>(bytes.data() + 20), chunk_length);
+}
+
+// The same GLB with its JSON chunk replaced (glb_json has validated the header).
+std::vector<unsigned char> with_glb_json(const std::vector<unsigned char>& bytes, std::string json,
+                                         const std::string& file) {
+  while (json.size() % 4 != 0) json += ' ';  // chunks are 4-byte aligned
+  const std::size_t rest_begin = 20 + std::size_t(le32(bytes.data() + 12));
+  const std::size_t rest_end = le32(bytes.data() + 8);
+  const std::size_t length = 20 + json.size() + (rest_end - rest_begin);
+  if (length >= std::numeric_limits<uint32_t>::max()) fail(file, "GLB", "larger than 4 GiB");
+  std::vector<unsigned char> out(length);
+  std::memcpy(out.data(), bytes.data(), 20);  // magic, version, chunk type kept
+  const auto put32 = [&](std::size_t at, std::size_t v) {
+    for (int i = 0; i < 4; ++i) out[at + std::size_t(i)] = static_cast<unsigned char>(v >> (8 * i));
+  };
+  put32(8, length);
+  put32(12, json.size());
+  std::memcpy(out.data() + 20, json.data(), json.size());
+  if (rest_end > rest_begin) {
+    std::memcpy(out.data() + 20 + json.size(), bytes.data() + rest_begin, rest_end - rest_begin);
+  }
+  return out;
 }
 
 nlohmann::json parse_json(const std::string& text, const std::string& file) {
@@ -251,66 +285,6 @@ void check_object_count(const nlohmann::json& root, const std::string& file) {
   }
 }
 
-uint32_t be32(const unsigned char* p) {  // PNG stores sizes big-endian
-  return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | uint32_t(p[3]);
-}
-
-// Image decoding goes through here so that an image's size is known from its header before
-// stb_image allocates for it: a 100 KB PNG can claim 100000 x 100000 pixels.
-struct ImageGuard {
-  std::size_t texels_used = 0;
-  std::string element;  // set when an image was refused
-  std::string what;
-};
-
-bool load_image_checked(tinygltf::Image* image, const int index, std::string* err,
-                        std::string* warn, int req_width, int req_height,
-                        const unsigned char* bytes, int size, void* user_data) {
-  auto& guard = *static_cast<ImageGuard*>(user_data);
-  const auto refuse = [&](const std::string& what) {
-    guard.element = indexed("images", std::size_t(index));
-    guard.what = what;
-    if (err) *err += guard.element + ": " + what + "\n";
-    return false;
-  };
-  int width = 0;
-  int height = 0;
-  int channels = 0;
-  if (size <= 0 || !stbi_info_from_memory(bytes, size, &width, &height, &channels)) {
-    // stb_image also refuses PNGs over 2^30 bytes in its header check; say why.
-    static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-    if (size >= 24 && std::memcmp(bytes, kPng, 8) == 0 && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
-      return refuse(std::to_string(be32(bytes + 16)) + " x " + std::to_string(be32(bytes + 20)) +
-                    " pixels; each side is limited to " +
-                    std::to_string(gltf_limits::kMaxImageSide));
-    }
-    return refuse("not an image in a format the decoder reads (PNG, JPEG, ...)");
-  }
-  if (width <= 0 || height <= 0 || width > gltf_limits::kMaxImageSide ||
-      height > gltf_limits::kMaxImageSide) {
-    return refuse(std::to_string(width) + " x " + std::to_string(height) +
-                  " pixels; each side is limited to " + std::to_string(gltf_limits::kMaxImageSide));
-  }
-  const std::size_t texels = std::size_t(width) * std::size_t(height);
-  if (texels > gltf_limits::kMaxImageTexels) {
-    return refuse(std::to_string(width) + " x " + std::to_string(height) +
-                  " pixels exceed the limit of " + std::to_string(gltf_limits::kMaxImageTexels) +
-                  " pixels per image");
-  }
-  if (texels > gltf_limits::kMaxTotalImageTexels - guard.texels_used) {
-    return refuse("the file's images together exceed the limit of " +
-                  std::to_string(gltf_limits::kMaxTotalImageTexels) + " pixels");
-  }
-  guard.texels_used += texels;
-  // tinygltf's default loader reads its options (tinygltf::LoadImageDataOption, which 2.7
-  // declares only inside its implementation) from user_data: one bool, preserve_channels.
-  struct {
-    bool preserve_channels = true;
-  } option;
-  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size,
-                                 &option);
-}
-
 const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions, const char* name) {
   auto it = extensions.find(name);
   if (it == extensions.end() || !it->second.IsObject()) return nullptr;
@@ -319,13 +293,15 @@ const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions, 
 
 class Converter {
  public:
-  Converter(const tinygltf::Model& model, const std::string& file, SceneDescription& out)
-      : model_(model), file_(file), out_(out), mesh_map_(model.meshes.size(), -2) {}
+  Converter(const tinygltf::Model& model, const std::string& file, const std::string& scene,
+            SceneDescription& out)
+      : model_(model), file_(file), out_(out), scene_(scene) {}
 
   void convert() {
     for (std::size_t i = 0; i < model_.materials.size(); ++i) {
       out_.materials.push_back(material(i));
     }
+    decode_texture_images();
     traverse(scene_roots());
   }
 
@@ -373,6 +349,14 @@ class Converter {
     return v.GetNumberAsDouble();
   }
 
+  AlphaMode alpha_mode(const std::string& mode, const std::string& element) const {
+    if (mode == "OPAQUE") return AlphaMode::opaque;
+    if (mode == "MASK") return AlphaMode::mask;
+    if (mode == "BLEND") return AlphaMode::blend;
+    const std::string shown = mode.size() > 32 ? mode.substr(0, 32) + "..." : mode;
+    error(element, "\"" + shown + "\" is not OPAQUE, MASK or BLEND");
+  }
+
   MaterialDescription material(std::size_t index) {
     const tinygltf::Material& m = model_.materials[index];
     const std::string element = indexed("materials", index);
@@ -385,17 +369,34 @@ class Converter {
     d.alpha = unit_factor(pbr.baseColorFactor[3], pbr_element + ".baseColorFactor[3]");
     d.metallic = unit_factor(pbr.metallicFactor, pbr_element + ".metallicFactor");
     d.roughness = unit_factor(pbr.roughnessFactor, pbr_element + ".roughnessFactor");
-    d.base_colour_texture =
-        texture(pbr.baseColorTexture, TextureEncoding::srgb, pbr_element + ".baseColorTexture");
+    d.base_colour_texture = texture(pbr.baseColorTexture, TextureEncoding::srgb,
+                                    pbr_element + ".baseColorTexture", &d.base_colour_mapping);
     d.metallic_roughness_texture =
         texture(pbr.metallicRoughnessTexture, TextureEncoding::linear_data,
-                pbr_element + ".metallicRoughnessTexture");
+                pbr_element + ".metallicRoughnessTexture", &d.metallic_roughness_mapping);
+    d.normal_texture = texture(m.normalTexture, TextureEncoding::linear_data,
+                               element + ".normalTexture", &d.normal_mapping);
+    if (!std::isfinite(m.normalTexture.scale))
+      error(element + ".normalTexture.scale", "expected a finite number");
+    d.normal_scale = static_cast<float>(m.normalTexture.scale);
+    d.occlusion_texture = texture(m.occlusionTexture, TextureEncoding::linear_data,
+                                  element + ".occlusionTexture", &d.occlusion_mapping);
+    d.occlusion_strength =
+        unit_factor(m.occlusionTexture.strength, element + ".occlusionTexture.strength");
+    if (const auto* sg = find_extension(m.extensions, "KHR_materials_pbrSpecularGlossiness")) {
+      specular_glossiness(*sg, element + ".extensions.KHR_materials_pbrSpecularGlossiness", d);
+    }
     if (!m.emissiveFactor.empty()) {
       d.emissive = colour(m.emissiveFactor, element + ".emissiveFactor");
     }
-    d.emissive_texture =
-        texture(m.emissiveTexture, TextureEncoding::srgb, element + ".emissiveTexture");
+    d.emissive_texture = texture(m.emissiveTexture, TextureEncoding::srgb,
+                                 element + ".emissiveTexture", &d.emissive_mapping);
     d.double_sided = m.doubleSided;
+    d.alpha_mode = alpha_mode(m.alphaMode, element + ".alphaMode");
+    // glTF sets no upper bound: a cutoff above 1 removes the whole surface.
+    if (!std::isfinite(m.alphaCutoff) || m.alphaCutoff < 0.0)
+      error(element + ".alphaCutoff", "expected a finite number >= 0");
+    d.alpha_cutoff = static_cast<float>(m.alphaCutoff);
 
     const std::string ext_element = element + ".extensions.";
     if (const auto* ext = find_extension(m.extensions, "KHR_materials_emissive_strength")) {
@@ -441,6 +442,26 @@ class Converter {
     return d;
   }
 
+  // Replaces the metallic-roughness values by the converted specular-glossiness ones
+  // (gltf_specular_glossiness.h; docs/gltf.md says what the textures lose).
+  void specular_glossiness(const tinygltf::Value& ext, const std::string& e,
+                           MaterialDescription& d) {
+    const SpecularGlossiness sg = read_specular_glossiness(ext, e, file_);
+    const MetallicRoughness mr = to_metallic_roughness(sg.diffuse, sg.specular, sg.glossiness);
+    d.base_colour = mr.base_colour;
+    d.alpha = sg.alpha;
+    d.metallic = mr.metallic;
+    d.roughness = mr.roughness;
+    d.base_colour_mapping = TextureMapping();
+    d.base_colour_texture = texture(sg.diffuse_texture, TextureEncoding::srgb,
+                                    e + ".diffuseTexture", &d.base_colour_mapping);
+    d.metallic_roughness_texture = -1;
+    if (sg.specular_glossiness_texture.index >= 0) {
+      warn(e + ".specularGlossinessTexture",
+           "not converted; the specular and glossiness factors are used alone");
+    }
+  }
+
   TextureWrap wrap(int mode, const std::string& element) const {
     switch (mode) {
       case TINYGLTF_TEXTURE_WRAP_REPEAT:
@@ -454,14 +475,98 @@ class Converter {
     }
   }
 
-  int texture(const tinygltf::TextureInfo& info, TextureEncoding encoding,
-              const std::string& element) {
+  // glTF's sampler into the texture's wrap modes and filters; no sampler, or a filter left
+  // out, leaves the defaults (repeat; bilinear magnification, trilinear minification).
+  void sampler(int index, const std::string& texture_element, TextureImage& image) const {
+    if (index < 0) return;
+    check_index(index, model_.samplers.size(), texture_element + ".sampler", "sampler");
+    const std::string element = indexed("samplers", std::size_t(index));
+    const tinygltf::Sampler& s = model_.samplers[std::size_t(index)];
+    image.wrap_s = wrap(s.wrapS, element + ".wrapS");
+    image.wrap_t = wrap(s.wrapT, element + ".wrapT");
+    switch (s.magFilter) {
+      case -1:
+      case TINYGLTF_TEXTURE_FILTER_LINEAR:
+        image.mag_filter = TextureFilter::linear;
+        break;
+      case TINYGLTF_TEXTURE_FILTER_NEAREST:
+        image.mag_filter = TextureFilter::nearest;
+        break;
+      default:
+        error(element + ".magFilter", "filter " + std::to_string(s.magFilter) + " is invalid");
+    }
+    struct MinFilter {
+      int gl;
+      TextureFilter filter;
+      MipMode mip;
+    };
+    static constexpr MinFilter kMinFilters[] = {
+        {-1, TextureFilter::linear, MipMode::linear},
+        {TINYGLTF_TEXTURE_FILTER_NEAREST, TextureFilter::nearest, MipMode::none},
+        {TINYGLTF_TEXTURE_FILTER_LINEAR, TextureFilter::linear, MipMode::none},
+        {TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST, TextureFilter::nearest, MipMode::nearest},
+        {TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST, TextureFilter::linear, MipMode::nearest},
+        {TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR, TextureFilter::nearest, MipMode::linear},
+        {TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR, TextureFilter::linear, MipMode::linear}};
+    for (const MinFilter& f : kMinFilters) {
+      if (f.gl == s.minFilter) {
+        image.min_filter = f.filter;
+        image.mip_mode = f.mip;
+        return;
+      }
+    }
+    error(element + ".minFilter", "filter " + std::to_string(s.minFilter) + " is invalid");
+  }
+
+  // A textureInfo's texCoord: TEXCOORD_0 or TEXCOORD_1 (Primitive holds those two).
+  int texcoord_set(int texcoord, const std::string& element) {
+    if (texcoord < 0) error(element, "texCoord " + std::to_string(texcoord) + " is negative");
+    if (texcoord > 1) {
+      warn(element,
+           "TEXCOORD_" + std::to_string(texcoord) + " is not supported; TEXCOORD_0 is used");
+      return 0;
+    }
+    return texcoord;
+  }
+
+  V2f pair(const tinygltf::Value& ext, const char* key, V2f fallback, const std::string& e) const {
+    if (!ext.Has(key)) return fallback;
+    const tinygltf::Value& v = ext.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+      error(e + "." + key, "expected 2 numbers");
+    const V2f out(static_cast<float>(v.Get(0).GetNumberAsDouble()),
+                  static_cast<float>(v.Get(1).GetNumberAsDouble()));
+    if (!std::isfinite(out.x) || !std::isfinite(out.y)) error(e + "." + key, "not finite");
+    return out;
+  }
+
+  // KHR_texture_transform on a textureInfo.
+  void texture_transform(const tinygltf::Value& ext, const std::string& e, TextureMapping& m) {
+    m.offset = pair(ext, "offset", m.offset, e);
+    m.scale = pair(ext, "scale", m.scale, e);
+    const double rotation = extension_number(ext, "rotation", 0.0, e);
+    if (!std::isfinite(static_cast<float>(rotation))) error(e + ".rotation", "not finite");
+    m.rotation = static_cast<float>(rotation);
+    if (ext.Has("texCoord")) {
+      if (!ext.Get("texCoord").IsInt()) error(e + ".texCoord", "expected an integer");
+      m.texcoord = texcoord_set(ext.Get("texCoord").GetNumberAsInt(), e + ".texCoord");
+    }
+  }
+
+  // The texture a material slot reads (TextureInfo, NormalTextureInfo, OcclusionTextureInfo),
+  // as an index into out_.textures, -1 for none; `mapping` receives its texCoord and
+  // KHR_texture_transform. Its image is decoded later, with all the others, by
+  // decode_texture_images.
+  template <typename Info>
+  int texture(const Info& info, TextureEncoding encoding, const std::string& element,
+              TextureMapping* mapping = nullptr) {
     if (info.index < 0) return -1;
     check_index(info.index, model_.textures.size(), element + ".index", "texture");
-    if (info.texCoord != 0) {
-      warn(element + ".texCoord",
-           "TEXCOORD_" + std::to_string(info.texCoord) + " is not supported; TEXCOORD_0 is used");
-    }
+    TextureMapping m;
+    m.texcoord = texcoord_set(info.texCoord, element + ".texCoord");
+    if (const auto* ext = find_extension(info.extensions, "KHR_texture_transform"))
+      texture_transform(*ext, element + ".extensions.KHR_texture_transform", m);
+    if (mapping) *mapping = m;
     const std::string texture_element = indexed("textures", std::size_t(info.index));
     const tinygltf::Texture& t = model_.textures[std::size_t(info.index)];
     if (t.source < 0) {
@@ -469,91 +574,96 @@ class Converter {
       return -1;
     }
     check_index(t.source, model_.images.size(), texture_element + ".source", "image");
-    TextureWrap wrap_s = TextureWrap::repeat;
-    TextureWrap wrap_t = TextureWrap::repeat;
-    if (t.sampler >= 0) {
-      check_index(t.sampler, model_.samplers.size(), texture_element + ".sampler", "sampler");
-      const std::string sampler_element = indexed("samplers", std::size_t(t.sampler));
-      const tinygltf::Sampler& s = model_.samplers[std::size_t(t.sampler)];
-      wrap_s = wrap(s.wrapS, sampler_element + ".wrapS");
-      wrap_t = wrap(s.wrapT, sampler_element + ".wrapT");
-    }
-    const auto key = std::make_tuple(t.source, wrap_s, wrap_t, encoding);
+    const auto key = std::make_tuple(t.source, t.sampler, encoding);
     if (auto it = texture_map_.find(key); it != texture_map_.end()) return it->second;
-    TextureImage image = decode(std::size_t(t.source));
+    TextureImage image;
+    const tinygltf::Image& source = model_.images[std::size_t(t.source)];
+    image.name = !source.name.empty() ? source.name
+                 : !source.uri.empty() && source.uri.size() < 256
+                     ? source.uri
+                     : indexed("images", std::size_t(t.source));
+    image.image = t.source;
     image.encoding = encoding;
-    image.wrap_s = wrap_s;
-    image.wrap_t = wrap_t;
+    sampler(t.sampler, texture_element, image);
     out_.textures.push_back(std::move(image));
     const int result = static_cast<int>(out_.textures.size() - 1);
     texture_map_.emplace(key, result);
     return result;
   }
 
-  TextureImage decode(std::size_t index) const {
-    const tinygltf::Image& image = model_.images[index];
-    const std::string element = indexed("images", index);
-    if (image.width <= 0 || image.height <= 0 || image.component < 1 || image.component > 4 ||
-        (image.bits != 8 && image.bits != 16)) {
-      error(element, "image was not decoded (" + std::to_string(image.width) + "x" +
-                         std::to_string(image.height) + ", " + std::to_string(image.component) +
-                         " channels, " + std::to_string(image.bits) + " bits)");
+  // Every image a texture reads, decoded once and in parallel (gltf_images.h), into the
+  // textures that read it.
+  void decode_texture_images() {
+    if (out_.textures.empty()) return;
+    std::vector<bool> wanted(model_.images.size(), false);
+    for (const TextureImage& t : out_.textures) wanted[std::size_t(t.image)] = true;
+    const std::vector<DecodedImage> decoded = decode_images(model_, wanted, file_);
+    for (TextureImage& t : out_.textures) {
+      const DecodedImage& d = decoded[std::size_t(t.image)];
+      t.width = d.width;
+      t.height = d.height;
+      t.channels = d.channels;
+      t.texels = d.texels;
     }
-    const std::size_t values =
-        std::size_t(image.width) * std::size_t(image.height) * std::size_t(image.component);
-    const std::size_t bytes_per_value = std::size_t(image.bits / 8);
-    if (image.image.size() != values * bytes_per_value) {
-      error(element, "decoded image holds " + std::to_string(image.image.size()) +
-                         " bytes, expected " + std::to_string(values * bytes_per_value));
-    }
-    TextureImage out;
-    out.name = !image.name.empty()                            ? image.name
-               : !image.uri.empty() && image.uri.size() < 256 ? image.uri
-                                                              : element;
-    out.width = image.width;
-    out.height = image.height;
-    out.channels = image.component;
-    out.texels.resize(values);
-    if (image.bits == 8) {
-      for (std::size_t i = 0; i < values; ++i) out.texels[i] = image.image[i] / 255.0f;
-    } else {
-      for (std::size_t i = 0; i < values; ++i) {
-        uint16_t v;
-        std::memcpy(&v, image.image.data() + 2 * i, 2);
-        out.texels[i] = v / 65535.0f;
-      }
-    }
-    return out;
   }
 
   // ---- meshes ----
 
   // Returns the index in out_.meshes, converting the glTF mesh on first use, or -1 for a mesh
   // whose every primitive was skipped (points, lines): it has nothing to render.
-  int mesh(int index, const std::string& node_element) {
-    check_index(index, model_.meshes.size(), node_element + ".mesh", "mesh");
-    constexpr int kNotConverted = -2;
-    int& mapped = mesh_map_[std::size_t(index)];
-    if (mapped == kNotConverted) {
-      Mesh converted = convert_mesh(std::size_t(index));
-      if (converted.primitives.empty()) {
-        mapped = -1;
-      } else {
-        out_.meshes.push_back(std::move(converted));
-        mapped = static_cast<int>(out_.meshes.size() - 1);
+  // A mesh is converted once per distinct rest pose (morph weights, skin): nodes placing it
+  // with the same pose share the converted mesh.
+  int mesh(const tinygltf::Node& node, const std::string& node_element) {
+    check_index(node.mesh, model_.meshes.size(), node_element + ".mesh", "mesh");
+    RestPose pose;
+    pose.weights = morph_weights(model_, node, node_element, file_);
+    if (node.skin >= 0) {
+      check_index(node.skin, model_.skins.size(), node_element + ".skin", "skin");
+      auto [it, added] = joint_matrices_.try_emplace(node.skin);
+      if (added) {
+        it->second = joint_matrices(
+            model_, node.skin, [this](int n) { return world_matrix(n); }, file_);
       }
+      pose.joint_matrices = it->second;
     }
+    const auto key = std::make_tuple(node.mesh, node.skin, pose.weights);
+    if (auto it = mesh_map_.find(key); it != mesh_map_.end()) return it->second;
+    Mesh converted = convert_mesh(std::size_t(node.mesh), pose);
+    int mapped = -1;
+    if (!converted.primitives.empty()) {
+      out_.meshes.push_back(std::move(converted));
+      mapped = static_cast<int>(out_.meshes.size() - 1);
+    }
+    mesh_map_.emplace(key, mapped);
     return mapped;
   }
 
-  Mesh convert_mesh(std::size_t index) {
+  // The world matrix of any node of the forest (a skin's joints need not be in the scene).
+  M44d world_matrix(int index) const {
+    M44d world;
+    std::size_t steps = 0;
+    for (int n = index; n >= 0; n = parent_[std::size_t(n)]) {
+      if (++steps > model_.nodes.size()) {
+        error(indexed("nodes", std::size_t(index)), "the node hierarchy has a cycle");
+      }
+      world = world * local_matrix(model_.nodes[std::size_t(n)], indexed("nodes", std::size_t(n)));
+    }
+    if (!is_finite(world))
+      error(indexed("nodes", std::size_t(index)), "world transform is not finite");
+    return world;
+  }
+
+  Mesh convert_mesh(std::size_t index, const RestPose& pose) {
     const tinygltf::Mesh& m = model_.meshes[index];
     const std::string element = indexed("meshes", index);
     Mesh out;
     out.name = m.name.empty() ? element : m.name;
     for (std::size_t p = 0; p < m.primitives.size(); ++p) {
       Primitive primitive;
-      if (convert_primitive(m.primitives[p], indexed(element + ".primitives", p), primitive)) {
+      const std::string primitive_element = indexed(element + ".primitives", p);
+      if (convert_primitive(m.primitives[p], primitive_element, primitive)) {
+        pose_primitive(model_, m.primitives[p], pose, primitive_element, file_, primitive,
+                       out_.warnings);
         out.primitives.push_back(std::move(primitive));
       }
     }
@@ -626,6 +736,16 @@ class Converter {
         }
       }
     }
+    if (const auto uv = attribute("TEXCOORD_1")) {
+      out.uv1 = read_texcoords(*uv, file_);
+      for (std::size_t i = 0; i < out.uv1.size(); ++i) {
+        if (!std::isfinite(out.uv1[i].x) || !std::isfinite(out.uv1[i].y)) {
+          error(uv->element(), "texture coordinate " + std::to_string(i) + " is not finite");
+        }
+      }
+    }
+    if (const auto colours = attribute("COLOR_0")) out.colours = read_colours(*colours, file_);
+    if (const auto tangents = attribute("TANGENT")) out.tangents = read_tangents(*tangents, file_);
 
     std::vector<uint32_t> indices;
     if (in.indices >= 0) {
@@ -666,7 +786,24 @@ class Converter {
       warn(element, "fewer than 3 vertices; skipped");
       return false;
     }
+    generate_missing_tangents(out, element);
     return true;
+  }
+
+  // A normal-mapped primitive without TANGENT gets MikkTSpace-style tangents from the UVs
+  // its normal map reads (renderer/tangents.h); without those UVs the map cannot be placed.
+  void generate_missing_tangents(Primitive& p, const std::string& element) {
+    if (!p.tangents.empty() || p.material < 0) return;
+    const MaterialDescription& m = out_.materials.at(std::size_t(p.material));
+    if (m.normal_texture < 0) return;
+    const std::vector<V2f>& uv = m.normal_mapping.texcoord == 1 ? p.uv1 : p.uv0;
+    if (uv.empty()) {
+      warn(element, "the material's normal map needs TEXCOORD_" +
+                        std::to_string(m.normal_mapping.texcoord) +
+                        ", which is missing; not normal mapped");
+      return;
+    }
+    p.tangents = generate_tangents(p.positions, p.normals, uv, p.indices);
   }
 
   // ---- nodes ----
@@ -691,8 +828,10 @@ class Converter {
         p = static_cast<int>(i);
       }
     }
+    parent_ = parent;
 
     if (model_.scenes.empty()) {
+      if (!scene_.empty()) error("scenes", "--scene " + scene_ + ": the file has no scenes");
       if (model_.defaultScene >= 0) {
         error("scene", "scene " + std::to_string(model_.defaultScene) +
                            " out of range (the file has no scenes)");
@@ -709,6 +848,11 @@ class Converter {
     if (model_.defaultScene >= 0) {
       check_index(model_.defaultScene, model_.scenes.size(), "scene", "scene");
       scene = std::size_t(model_.defaultScene);
+    }
+    if (!scene_.empty()) {
+      std::vector<std::string> names;
+      for (const tinygltf::Scene& s : model_.scenes) names.push_back(s.name);
+      scene = select_scene(names, scene_, file_);
     }
     const std::string element = indexed("scenes", scene);
     const std::vector<int>& roots = model_.scenes[scene].nodes;
@@ -810,10 +954,11 @@ class Converter {
     if (sphere_ext) {
       sphere(*sphere_ext, node, element, name, world);
     } else if (node.mesh >= 0) {
-      if (const int m = mesh(node.mesh, element); m >= 0) {
-        out_.instances.push_back({m, world, name});
+      if (const int m = mesh(node, element); m >= 0) {
+        // glTF: a skinned mesh is placed by its joints alone; the node's own transform is
+        // ignored (the skin's matrices already put its vertices in world space).
+        out_.instances.push_back({m, node.skin >= 0 ? M44d() : world, name});
       }
-      if (node.skin >= 0) warn(element + ".skin", "skinning is not supported; bind pose used");
     }
     if (node.camera >= 0) camera(node.camera, element, world);
     if (const auto* light_ext = find_extension(node.extensions, "KHR_lights_punctual")) {
@@ -970,27 +1115,33 @@ class Converter {
   const tinygltf::Model& model_;
   const std::string& file_;
   SceneDescription& out_;
-  std::vector<int> mesh_map_;
-  std::map<std::tuple<int, TextureWrap, TextureWrap, TextureEncoding>, int> texture_map_;
+  const std::string& scene_;  // --scene: a name or index, empty = the file's default
+  std::map<std::tuple<int, int, std::vector<double>>, int> mesh_map_;
+  std::map<int, std::vector<M44d>> joint_matrices_;                   // per skin
+  std::vector<int> parent_;                                           // per node, -1 for roots
+  std::map<std::tuple<int, int, TextureEncoding>, int> texture_map_;  // (image, sampler, encoding)
 };
 
 SceneDescription load(const std::string& path, const LoadOptions& options) {
   SceneDescription scene;
   scene.source_path = path;
-  const std::vector<unsigned char> bytes = read_file(path);
+  std::vector<unsigned char> bytes = read_file(path);
   const bool binary = is_glb(bytes);
-  const std::string json_text =
-      binary ? glb_json(bytes, path) : std::string(bytes.begin(), bytes.end());
+  std::string json_text = binary ? glb_json(bytes, path) : std::string(bytes.begin(), bytes.end());
   const nlohmann::json root = parse_json(json_text, path);
   check_object_count(root, path);
   check_gltf_json(root, path, scene.warnings);
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   check_uris(root, base.empty() ? std::filesystem::path(".") : base, path, options);
+  if (const auto patched = draco_json_for_tinygltf(root)) {
+    json_text = patched->dump();
+    if (binary) bytes = with_glb_json(bytes, json_text, path);
+  }
 
   tinygltf::TinyGLTF loader;
   loader.SetPreserveImageChannels(true);
   ImageGuard image_guard;
-  loader.SetImageLoader(load_image_checked, &image_guard);
+  loader.SetImageLoader(check_image_header, &image_guard);
   tinygltf::Model model;
   std::string err;
   std::string warn;
@@ -1009,7 +1160,11 @@ SceneDescription load(const std::string& path, const LoadOptions& options) {
   if (!ok || !err.empty()) fail(path, "glTF", err.empty() ? "tinygltf failed to load" : err);
   if (!warn.empty()) scene.warnings.push_back(one_line(path + ": glTF: " + warn));
 
-  Converter(model, path, scene).convert();
+  // Both rewrite the model onto plain accessors, so the conversion below reads them as usual.
+  decode_draco_primitives(model, path);
+  apply_sparse_accessors(model, path);
+
+  Converter(model, path, options.scene, scene).convert();
   return scene;
 }
 

@@ -17,6 +17,13 @@ class LoadError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// `LoadOptions::scene` names a scene the file does not have: the caller's mistake rather than
+// the file's, so a command line can report it as a usage error.
+class SceneSelectionError : public LoadError {
+ public:
+  using LoadError::LoadError;
+};
+
 // How far the loader trusts the file. A default-constructed LoadOptions is the safe choice for
 // files from elsewhere.
 struct LoadOptions {
@@ -25,6 +32,9 @@ struct LoadOptions {
   // "/etc/passwd", into a texture. True lifts that for relative paths leaving the folder
   // ("../textures/x.png", symlinks); absolute paths and file:// URIs are never resolved.
   bool allow_external_paths = false;
+  // The scene to load: a scene's name, or its index in decimal. Empty: the file's `scene`, else
+  // scenes[0] (else, for a file without scenes, every root node).
+  std::string scene;
 };
 
 SceneDescription load_gltf(const std::string& path, const LoadOptions& options);

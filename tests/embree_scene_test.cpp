@@ -72,14 +72,14 @@ TEST(EmbreeScene, BakedAndInstancedMeshesReportTheSameHits) {
     EXPECT_FALSE(b.back_face);
     EXPECT_EQ(a.material, 3);
     EXPECT_EQ(b.material, 3);
-    EXPECT_NEAR(a.uv.x, b.uv.x, 1e-5f);
-    EXPECT_NEAR(a.uv.y, b.uv.y, 1e-5f);
+    EXPECT_NEAR(a.texcoord(0).x, b.texcoord(0).x, 1e-5f);
+    EXPECT_NEAR(a.texcoord(0).y, b.texcoord(0).y, 1e-5f);
   }
   // The mirrored triangle is flipped in x: at local x = -0.25 (world 5.5) the texture
   // coordinate u is that of local x = -0.25, i.e. below the centre line's 0.5.
   SurfaceHit m;
   ASSERT_TRUE(instanced.intersect(ray_down_z(5.5f, 0.2f), &m));
-  EXPECT_LT(m.uv.x, 0.5f);
+  EXPECT_LT(m.texcoord(0).x, 0.5f);
   EXPECT_FLOAT_EQ(baked.bounds().min.x, -7.0f);
   EXPECT_FLOAT_EQ(baked.bounds().max.x, 7.0f);
 }

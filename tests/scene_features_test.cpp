@@ -25,19 +25,8 @@ SphereOptions mode(SphereMode m) {
   return o;
 }
 
-Light point_light(V3d position) {
-  Light l;
-  l.type = LightType::point;
-  l.position = position;
-  return l;
-}
-
-Light directional_light(V3d direction) {
-  Light l;
-  l.type = LightType::directional;
-  l.direction = direction;
-  return l;
-}
+using testing::directional_light;
+using testing::point_light;
 
 SceneDescription one_sphere() {
   SceneDescription s;
@@ -61,7 +50,7 @@ TEST(SceneFeatures, EmptySceneHasNothing) {
   const SceneFeatures f = derive_scene_features(SceneDescription(), SphereOptions());
   EXPECT_EQ(f.geometry, GeometryKind::none);
   EXPECT_EQ(f.lights, LightKinds::none);
-  EXPECT_EQ(f.textures, TextureSlot::none);
+  EXPECT_EQ(f.textures, TexturedSlots::none);
   EXPECT_FALSE(f.mirror);
   EXPECT_FALSE(f.transmission);
   EXPECT_FALSE(f.emission);
@@ -69,7 +58,7 @@ TEST(SceneFeatures, EmptySceneHasNothing) {
   EXPECT_EQ(f.objects, 0u);
   EXPECT_EQ(to_string(f),
             "geometry=none lights=none textures=none mirror=no transmission=no emission=no "
-            "shadows=no");
+            "alpha=none shadows=no");
 }
 
 TEST(SceneFeatures, OneExactSphereCannotShadowItselfButAnIcosphereCan) {
@@ -166,7 +155,7 @@ TEST(SceneFeatures, MirrorFollowsRoughnessThresholdAndTexture) {
   s.materials[0].roughness = 0.4f;  // down to 0.1 where green is 0.25
   SceneFeatures f = derive_scene_features(s, SphereOptions());
   EXPECT_TRUE(f.mirror);
-  EXPECT_EQ(f.textures, TextureSlot::metallic_roughness);
+  EXPECT_EQ(f.textures, TexturedSlots::metallic_roughness);
   s.materials[0].roughness = 0.5f;  // never below 0.125
   EXPECT_FALSE(derive_scene_features(s, SphereOptions()).mirror);
 
@@ -196,8 +185,8 @@ TEST(SceneFeatures, TransmissionEmissionAndTextureSlots) {
   s.materials[0].base_colour_texture = 0;
   s.materials[0].emissive_texture = 0;
   f = derive_scene_features(s, SphereOptions());
-  EXPECT_EQ(f.textures,
-            TextureSlot::base_colour | TextureSlot::metallic_roughness | TextureSlot::emissive);
+  EXPECT_EQ(f.textures, TexturedSlots::base_colour | TexturedSlots::metallic_roughness |
+                            TexturedSlots::emissive);
   EXPECT_FALSE(f.emission);  // the texture only scales a zero factor
   s.materials[0].emissive = C3f(0.0f, 0.2f, 0.0f);
   EXPECT_TRUE(derive_scene_features(s, SphereOptions()).emission);
@@ -222,13 +211,14 @@ TEST(SceneFeatures, LightKinds) {
 TEST(SceneFeatures, MetadataPairs) {
   const SceneFeatures f = derive_scene_features(one_sphere(), SphereOptions());
   const auto pairs = feature_metadata(f);
-  ASSERT_EQ(pairs.size(), 8u);
+  ASSERT_EQ(pairs.size(), 9u);
   EXPECT_EQ(pairs[0].first, "features");
   EXPECT_EQ(pairs[0].second, to_string(f));
   EXPECT_EQ(pairs[1],
             std::make_pair(std::string("featureGeometry"), std::string("analytic-spheres")));
   EXPECT_EQ(pairs[2].second, "positional");
   EXPECT_EQ(pairs[7], std::make_pair(std::string("featureShadows"), std::string("no")));
+  EXPECT_EQ(pairs[8], std::make_pair(std::string("featureAlpha"), std::string("none")));
 }
 
 SceneFeatures shipped(const char* name, SphereOptions spheres = {}) {
@@ -245,7 +235,7 @@ TEST(SceneFeatures, SpheresScene) {
   EXPECT_EQ(f.lights, LightKinds::positional);
   EXPECT_EQ(f.point_lights, 1u);
   EXPECT_EQ(f.directional_lights, 1u);
-  EXPECT_EQ(f.textures, TextureSlot::base_colour);
+  EXPECT_EQ(f.textures, TexturedSlots::base_colour);
   EXPECT_TRUE(f.mirror);
   EXPECT_TRUE(f.transmission);
   EXPECT_FALSE(f.emission);
@@ -259,7 +249,7 @@ TEST(SceneFeatures, FurnaceScene) {
   EXPECT_EQ(f.geometry, GeometryKind::analytic_spheres);
   EXPECT_EQ(f.spheres, 1u);
   EXPECT_EQ(f.lights, LightKinds::positional);
-  EXPECT_EQ(f.textures, TextureSlot::none);
+  EXPECT_EQ(f.textures, TexturedSlots::none);
   EXPECT_FALSE(f.mirror);
   EXPECT_FALSE(f.transmission);
   EXPECT_FALSE(f.emission);
@@ -273,7 +263,7 @@ TEST(SceneFeatures, WhittedScene) {
   EXPECT_EQ(f.spheres, 4u);
   EXPECT_EQ(f.point_lights, 2u);
   EXPECT_EQ(f.lights, LightKinds::positional);
-  EXPECT_EQ(f.textures, TextureSlot::none);
+  EXPECT_EQ(f.textures, TexturedSlots::none);
   EXPECT_TRUE(f.mirror);
   EXPECT_TRUE(f.transmission);
   EXPECT_FALSE(f.emission);
@@ -287,6 +277,7 @@ void expect_shadow_rays_change_nothing(const SceneDescription& scene,
   RenderSettings settings;
   settings.width = 48;
   settings.height = 36;
+  settings.specialise = false;  // specialised, the shadow integrator would skip the rays
   GeometryOptions options;
   options.spheres = spheres;
   const auto phong =

@@ -10,6 +10,22 @@
 
 namespace prism::testing {
 
+inline Light point_light(V3d position, float intensity = 1.0f) {
+  Light l;
+  l.type = LightType::point;
+  l.position = position;
+  l.intensity = intensity;
+  return l;
+}
+
+// A sun whose light travels along `direction`.
+inline Light directional_light(V3d direction) {
+  Light l;
+  l.type = LightType::directional;
+  l.direction = direction;
+  return l;
+}
+
 inline MaterialDescription lambert_like(float rho) {
   MaterialDescription m;
   m.base_colour = C3f(rho, rho, rho);

@@ -53,6 +53,51 @@ def make_lambertian():
         material.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
 
 
+def set_up_direct_light_render(scene, output, width, height, spp, threads, seed):
+    """Black world, Cycles direct light only (max_bounces 0), fixed samples, 1-pixel box
+    filter, fixed threads, Standard view, 32-bit float EXR at `output`. Shared with
+    bench/peers/blender_asset.py."""
+    world = bpy.data.worlds.new("black")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    scene.world = world
+
+    scene.render.engine = "CYCLES"
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = spp
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = seed
+    cycles.max_bounces = 0
+    cycles.diffuse_bounces = cycles.glossy_bounces = cycles.transmission_bounces = 0
+    cycles.volume_bounces = cycles.transparent_max_bounces = 0
+    cycles.caustics_reflective = cycles.caustics_refractive = False
+    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
+    cycles.filter_type = "BOX"
+    cycles.filter_width = 1.0
+    cycles.use_auto_tile = False
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = threads
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.render.use_compositing = False
+    scene.render.use_sequencer = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    settings = scene.render.image_settings
+    settings.file_format = "OPEN_EXR"
+    settings.color_depth = "32"
+    settings.color_mode = "RGBA"
+    settings.exr_codec = "ZIP"
+    scene.render.filepath = output
+    scene.render.use_file_extension = False
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(prog="cycles_render.py")
@@ -103,49 +148,13 @@ def main():
     if args.lambert:
         make_lambertian()
 
-    world = bpy.data.worlds.new("black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    scene.world = world
-
-    scene.render.engine = "CYCLES"
-    cycles = scene.cycles
-    cycles.device = "CPU"
-    cycles.samples = args.spp
-    cycles.use_adaptive_sampling = False
-    cycles.use_denoising = False
-    cycles.seed = args.seed
-    cycles.max_bounces = 0
-    cycles.diffuse_bounces = cycles.glossy_bounces = cycles.transmission_bounces = 0
-    cycles.volume_bounces = cycles.transparent_max_bounces = 0
-    cycles.caustics_reflective = cycles.caustics_refractive = False
-    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
-    cycles.filter_type = "BOX"
-    cycles.filter_width = 1.0
-    cycles.use_auto_tile = False
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = args.threads
-    scene.render.resolution_x, scene.render.resolution_y = width, height
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = False
-    scene.render.use_compositing = False
-    scene.render.use_sequencer = False
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    scene.view_settings.exposure = 0.0
-    scene.view_settings.gamma = 1.0
-    settings = scene.render.image_settings
-    settings.file_format = "OPEN_EXR"
-    settings.color_depth = "32"
-    settings.color_mode = "RGBA"
-    settings.exr_codec = "ZIP"
-    scene.render.filepath = args.output
-    scene.render.use_file_extension = False
+    set_up_direct_light_render(scene, args.output, width, height, args.spp, args.threads,
+                               args.seed)
 
     start = time.perf_counter()
     bpy.ops.render.render(write_still=True)
     print("PEER_RENDER_TIME %.4f" % (time.perf_counter() - start))
 
 
-main()
+if __name__ == "__main__":  # also imported by blender_asset.py for its pieces
+    main()

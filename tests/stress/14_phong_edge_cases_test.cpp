@@ -168,6 +168,8 @@ TEST(StressPhongEdgeCases, LightInsideAClosedMeshLightsOnlyItsInside) {
   constexpr float kIntensity = 6.0f;
   SceneDescription scene;
   scene.materials.push_back(lambert_like(0.8f));
+  // Seen from inside: camera rays cull the back faces of single-sided materials.
+  scene.materials[0].double_sided = true;
   scene.meshes.push_back(quad_mesh(6.0f, 0.0f, 0));
   Mesh shell;
   shell.primitives.push_back(tessellate_sphere(Sphere{V3d(0, 2, 0), kRadius, 0, ""}, kLevel));

@@ -1,0 +1,76 @@
+#include "renderer/adaptive_sampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace prism {
+
+int next_round_end(int samples_done, int min_spp, int max_spp) {
+  if (samples_done <= 0) return std::min(std::max(1, min_spp), max_spp);
+  int step = 1;
+  while (step * 2 <= samples_done / 4) step *= 2;
+  return std::min(samples_done + step, max_spp);
+}
+
+double pixel_relative_error(const PixelSums& all, const PixelSums& first_half) {
+  const double a = first_half.kept;
+  const double b = static_cast<double>(all.kept) - a;
+  if (a <= 0.0 || b <= 0.0) return std::numeric_limits<double>::infinity();
+  const double n = a + b;
+  const double scale = std::sqrt(a * b) / n;
+  const double edge_rate = std::pow(n, -0.75);
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    const double total = all.radiance[c];
+    const double first = first_half.radiance[c];
+    const double spread = std::abs(first / a - (total - first) / b) * scale;
+    const double mean = total / n;
+    const double variance =
+        std::max(0.0, (all.radiance_squared[c] / n - mean * mean) * n / (n - 1.0));
+    const double edge = kEdgeErrorConstant * std::sqrt(variance) * edge_rate;
+    const double error = std::max(spread, edge);
+    sum += error * error / (mean * mean + kAdaptiveErrorFloorSquared);
+  }
+  return std::sqrt(sum / 3.0);
+}
+
+size_t update_active_pixels(int width, int height, const PixelSums* sums,
+                            const PixelSums* first_half, double target, std::vector<float>* error,
+                            uint8_t* active) {
+  const size_t pixels = static_cast<size_t>(width) * height;
+  error->resize(pixels);
+  float* e = error->data();
+  // Rows are independent and each value a pure function of its pixel's sums, so running
+  // them in parallel cannot change the result. A stopped pixel's sums, so its error, no
+  // longer change: only active pixels are estimated again.
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        const size_t i = static_cast<size_t>(y) * width + x;
+        if (active[i]) e[i] = static_cast<float>(pixel_relative_error(sums[i], first_half[i]));
+      }
+  });
+  // The active flags are read from the error alone and written only for their own pixel.
+  const float threshold = static_cast<float>(target);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        const size_t i = static_cast<size_t>(y) * width + x;
+        if (!active[i]) continue;
+        float worst = 0.0f;
+        for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
+          for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
+            worst = std::max(worst, e[static_cast<size_t>(ny) * width + nx]);
+        active[i] = worst > threshold ? 1 : 0;
+      }
+  });
+  size_t count = 0;
+  for (size_t i = 0; i < pixels; ++i) count += active[i];
+  return count;
+}
+
+}  // namespace prism

@@ -1,0 +1,61 @@
+// Adaptive sampling: which pixels keep sampling after a round, and how long rounds are
+// (docs/sampling.md has the reasoning and the measurements).
+//
+// The main error estimate splits a pixel's n samples into its first 2^k (2^k the largest
+// power of two below n) and the rest. Both parts are unbiased estimates of the pixel; with Prism's
+// Owen-scrambled Sobol points (renderer/sampler.h) the first part is a complete (0,2)-net and
+// the rest a union of aligned nets, so both are as well stratified as the whole. The spread
+// of their means therefore tracks the real, stratified error of the pixel (falling close to
+// n^-3/4 at an edge), where the i.i.d. variance of the mean (sums of squares) would assume
+// n^-1/2 and keep sampling converged edges. Splitting by sample parity, as done for random
+// samplers, would be wrong here: Sobol's even samples all lie in one half of the pixel.
+//
+// Every decision reads only sums after complete rounds, so the set of samples each pixel
+// takes, and the image, are the same for any thread count or tile order.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "renderer/integrator.h"
+
+namespace prism {
+
+// The error of n Owen-scrambled Sobol samples of a pixel crossed by an edge, as a multiple
+// of the samples' standard deviation times n^-3/4: 0.72 to 0.73 at 16, 64 and 256 spp in
+// tests/sampler_test.cpp's disc (docs/sampling.md); rounded up.
+inline constexpr double kEdgeErrorConstant = 0.75;
+
+// The floor under the relative error's denominator: relMSE's epsilon (image_metrics.h), so
+// that a pixel whose estimate is below the target keeps its relMSE share below target^2.
+inline constexpr double kAdaptiveErrorFloorSquared = 1e-2;
+
+// Where the round that starts after `samples_done` samples ends: the first round takes
+// `min_spp`, then each adds the largest power of two not above a quarter of what is done (4
+// after 16, 8 after 32, ...), so rounds stay aligned to the sampler's nets while every
+// decision comes after at most 25% more samples. Never past `max_spp`.
+int next_round_end(int samples_done, int min_spp, int max_spp);
+
+// The estimated relative error of a pixel's mean, from its sums over all its samples and
+// over its first 2^k. Per channel, the larger of
+//  - the spread of the two parts, |mean(first) - mean(rest)| sqrt(a b) / (a + b) (the
+//    standard error of the mean of a + b samples when the parts hold a and b), which sees
+//    whatever converges slower than an edge (small features, highlights);
+//  - the edge model, kEdgeErrorConstant * s * n^-3/4 with s the samples' standard
+//    deviation: at a straight edge both nets can land their points alike and agree by luck,
+//    while s, the edge's contrast, is measured reliably from the first samples;
+// divided by sqrt(mean^2 + floor); then the root mean square over R, G, B. Infinite while
+// either part is empty.
+double pixel_relative_error(const PixelSums& all, const PixelSums& first_half);
+
+// After a round: a pixel stays active when it was and the largest error in its 3x3
+// neighbourhood is above `target`. The neighbourhood keeps a pixel whose two halves agreed
+// by luck sampling as long as the edge it lies on has not converged. `error` keeps each
+// pixel's last estimate between calls (sized here on the first; only active pixels are
+// estimated again). Returns how many pixels stay active.
+size_t update_active_pixels(int width, int height, const PixelSums* sums,
+                            const PixelSums* first_half, double target, std::vector<float>* error,
+                            uint8_t* active);
+
+}  // namespace prism
