@@ -234,28 +234,38 @@ std::vector<V3f> read_vec3_float(const AccessorView& view, const std::string& wh
   return out;
 }
 
-std::vector<V2f> read_texcoords(const AccessorView& view, const std::string& file) {
-  expect_components(view, 2, "TEXCOORD_0", file);
+void expect_float_or_normalized(const AccessorView& view, const std::string& what,
+                                const std::string& file) {
   const int type = view.component_type;
   const bool normalized_integer = (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
                                    type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) &&
                                   view.normalized;
   if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_integer) {
     fail(file, view.element(),
-         std::string("TEXCOORD_0 must be FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT, not ") +
+         what + " must be FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT, not " +
              (view.normalized ? "normalized " : "") + component_type_name(type));
   }
+}
+
+float unit_component(const AccessorView& view, const unsigned char* element, int k) {
+  switch (view.component_type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return load<float>(element + 4 * k);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return element[k] / 255.0f;
+    default:
+      return load<uint16_t>(element + 2 * k) / 65535.0f;
+  }
+}
+
+std::vector<V2f> read_texcoords(const AccessorView& view, const std::string& file) {
+  expect_components(view, 2, "TEXCOORD_0", file);
+  expect_float_or_normalized(view, "TEXCOORD_0", file);
   std::vector<V2f> out(view.count, V2f(0.0f));
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
-    if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-      out[i] = V2f(load<float>(p), load<float>(p + 4));
-    } else if (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-      out[i] = V2f(p[0] / 255.0f, p[1] / 255.0f);
-    } else {
-      out[i] = V2f(load<uint16_t>(p) / 65535.0f, load<uint16_t>(p + 2) / 65535.0f);
-    }
+    out[i] = V2f(unit_component(view, p, 0), unit_component(view, p, 1));
   }
   return out;
 }
@@ -311,28 +321,12 @@ std::vector<std::array<uint32_t, 4>> read_joints(const AccessorView& view, const
 std::vector<std::array<float, 4>> read_weights(const AccessorView& view, const std::string& what,
                                                const std::string& file) {
   expect_components(view, 4, what, file);
-  const int type = view.component_type;
-  const bool normalized_integer = (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                   type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) &&
-                                  view.normalized;
-  if (type != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_integer) {
-    fail(file, view.element(),
-         what + " must be FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT, not " +
-             (view.normalized ? "normalized " : "") + component_type_name(type));
-  }
+  expect_float_or_normalized(view, what, file);
   std::vector<std::array<float, 4>> out(view.count, {0.0f, 0.0f, 0.0f, 0.0f});
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
-    for (int c = 0; c < 4; ++c) {
-      if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-        out[i][c] = load<float>(p + 4 * c);
-      } else if (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-        out[i][c] = p[c] / 255.0f;
-      } else {
-        out[i][c] = load<uint16_t>(p + 2 * c) / 65535.0f;
-      }
-    }
+    for (int c = 0; c < 4; ++c) out[i][c] = unit_component(view, p, c);
   }
   return out;
 }

@@ -46,6 +46,13 @@ int append_buffer_view(tinygltf::Model& model, std::vector<unsigned char> bytes)
 // Bytes per element of componentType x type (0 when either is invalid).
 std::size_t accessor_element_size(int component_type, int type);
 
+// Texture coordinates, weights and colours share one encoding: FLOAT, or UNSIGNED_BYTE/SHORT
+// normalised to [0, 1]. The check fails with "WHAT must be FLOAT or normalized ...";
+// unit_component reads component k of the element at `element` in that encoding.
+void expect_float_or_normalized(const AccessorView& view, const std::string& what,
+                                const std::string& file);
+float unit_component(const AccessorView& view, const unsigned char* element, int k);
+
 // Each reader checks the accessor's type and component type for its purpose, then copies.
 std::vector<V3f> read_vec3_float(const AccessorView& view, const std::string& what,
                                  const std::string& file);
