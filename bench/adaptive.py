@@ -2,18 +2,23 @@
 """Uniform against adaptive sampling: the render time and the rays needed to reach a given
 error against a high-spp reference, on the compare scenes.
 
-    /usr/bin/python3 bench/adaptive.py [--out DIR] [--res WxH] [--reference-spp 512]
-        [--threads N] [--scenes spheres,engine] [--keep-reference]
+    /usr/bin/python3 bench/adaptive.py [--out DIR] [--res WxH|default] [--reference-spp 512]
+        [--threads N] [--scenes spheres,engine] [--keep-reference] [--extra "ARGS"]
 
 For each scene: a uniform reference at --reference-spp, uniform renders at 4..128 spp and
 adaptive renders (--target-error 0.2 .. 0.01, --spp 1024 as the cap), each measured with
 `prism diff --metric all` (RMSE and relMSE, colour channels). For each goal error, the time
 and the rays each method needs are read off its error curve (log-log interpolation between
 the two renders that bracket the goal); the goals are the errors uniform sampling reaches
-at 16, 32, 64 and 128 spp. Prints Markdown tables. Time is the CPU time of each `prism
-render` process (user + system, load and BVH build included, the same for both methods),
-which load from other jobs disturbs far less than wall time; Prism's own `render time`
-(wall) is printed too. Camera and total rays are exact.
+at 16, 32, 64 and 128 spp. Prints Markdown tables.
+
+The goal is about rendering, so the main time is the **render's CPU time**: each `prism
+render` process's CPU time (user + system, which load from other jobs disturbs far less
+than wall time) minus that of the same command at 1 x 1 pixel and 1 spp (process start,
+scene load, BVH build, writing the image: the same for both methods; the median of three
+runs per scene). The whole process's CPU time and Prism's own `render time` (wall, the
+rendering alone) are second and third columns. Camera and total rays are exact. The default
+resolution, 640 x 360, keeps startup, load and build a small part of every render.
 """
 import argparse
 import math
@@ -48,20 +53,32 @@ def run(cmd):
     return proc.stdout
 
 
-def render(prism, scene, integrator, out, args, extra):
-    cmd = [prism, "render", scene, "-o", out, "--integrator", integrator, "--res", args.res,
-           "--threads", str(args.threads)] + extra
+def render(prism, scene, integrator, out, args, extra, res=None, startup_cpu=0.0):
+    res = res or args.res
+    cmd = [prism, "render", scene, "-o", out, "--integrator", integrator,
+           "--threads", str(args.threads)] + (["--res", res] if res != "default" else [])
+    cmd += args.extra.split() + extra
     before = cpu_seconds()
     text = run(cmd)
     cpu = cpu_seconds() - before
     rays = re.search(r"rays\s+camera ([0-9,]+), .* total ([0-9,]+)", text)
+    size = re.search(r", (\d+)x(\d+), ", text)
     return {
         "command": " ".join(cmd),
+        "pixels": int(size.group(1)) * int(size.group(2)),
         "seconds": float(re.search(r"render time\s+([0-9.]+) s", text).group(1)),
         "cpu": cpu,
+        "render_cpu": cpu - startup_cpu,
         "camera": int(rays.group(1).replace(",", "")),
         "rays": int(rays.group(2).replace(",", "")),
     }
+
+
+def startup_cpu_seconds(prism, scene, integrator, out, args):
+    """Process start, load, BVH build and writing: the CPU time of a 1 x 1, 1-spp render."""
+    runs = sorted(render(prism, scene, integrator, out, args, ["--spp", "1"], res="1x1")["cpu"]
+                  for _ in range(3))
+    return runs[1]
 
 
 def measure(prism, image, reference):
@@ -86,10 +103,13 @@ def cost_to_reach(points, key, metric, goal):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--out", default="/tmp/prism-adaptive")
-    parser.add_argument("--res", default="320x180")
+    parser.add_argument("--res", default="640x360",
+                        help="WxH, or 'default' for each scene's own (spheres 853x480, engine "
+                        "480x480)")
     parser.add_argument("--reference-spp", type=int, default=512)
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--scenes", default="spheres,engine")
+    parser.add_argument("--extra", default="", help="more `prism render` options for every render")
     parser.add_argument("--keep-reference", action="store_true",
                         help="reuse OUT/<scene>-reference.exr when it exists")
     args = parser.parse_args()
@@ -99,6 +119,9 @@ def main():
         scene, integrator = SCENES[name]
         ref = os.path.join(args.out, "%s-reference.exr" % name)
         print("\n### %s, %s, %s\n" % (os.path.basename(scene), integrator, args.res))
+        startup = startup_cpu_seconds(prism, scene, integrator,
+                                      os.path.join(args.out, "%s-startup.exr" % name), args)
+        print("Startup, load, BVH build and writing (1 x 1, 1 spp): %.3f s CPU\n" % startup)
         if args.keep_reference and os.path.exists(ref):
             print("Reference: %s, kept from an earlier run\n" % ref)
         else:
@@ -107,44 +130,46 @@ def main():
         points = {"uniform": [], "adaptive": []}
         for spp in UNIFORM_SPP:
             out = os.path.join(args.out, "%s-uniform-%d.exr" % (name, spp))
-            p = render(prism, scene, integrator, out, args, ["--spp", str(spp)])
+            p = render(prism, scene, integrator, out, args, ["--spp", str(spp)],
+                       startup_cpu=startup)
             p["label"] = "%d spp" % spp
             p["rmse"], p["relmse"] = measure(prism, out, ref)
             points["uniform"].append(p)
         for target in TARGETS:
             out = os.path.join(args.out, "%s-adaptive-%g.exr" % (name, target))
             p = render(prism, scene, integrator, out, args,
-                       ["--spp", str(ADAPTIVE_MAX_SPP), "--target-error", str(target)])
+                       ["--spp", str(ADAPTIVE_MAX_SPP), "--target-error", str(target)],
+                       startup_cpu=startup)
             p["label"] = "target %g" % target
             p["rmse"], p["relmse"] = measure(prism, out, ref)
             points["adaptive"].append(p)
-        print("| method | setting | mean spp | render s | CPU s | camera rays | all rays | RMSE | "
-              "relMSE |")
-        print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
-        pixels = eval(args.res.replace("x", "*"))
+        print("| method | setting | mean spp | render CPU s | process CPU s | render wall s | "
+              "camera rays | all rays | RMSE | relMSE |")
+        print("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
         for method, pts in points.items():
             for p in pts:
-                print("| %s | %s | %.2f | %.3f | %.3f | %d | %d | %.5g | %.4g |" % (
-                    method, p["label"], p["camera"] / pixels, p["seconds"], p["cpu"], p["camera"],
-                    p["rays"], p["rmse"], p["relmse"]))
+                print("| %s | %s | %.2f | %.3f | %.3f | %.3f | %d | %d | %.5g | %.4g |" % (
+                    method, p["label"], p["camera"] / p["pixels"], p["render_cpu"], p["cpu"],
+                    p["seconds"], p["camera"], p["rays"], p["rmse"], p["relmse"]))
         print("\nCost to reach the error uniform sampling reaches at %s spp "
               "(adaptive / uniform):\n" % ", ".join(map(str, GOAL_SPP)))
-        print("| goal | uniform CPU s | adaptive CPU s | CPU ratio | uniform rays | adaptive rays | "
-              "ray ratio |")
-        print("| --- | ---: | ---: | ---: | ---: | ---: | ---: |")
+        print("| goal | render CPU s uniform → adaptive | ratio | process CPU s | ratio | "
+              "render wall s | ratio | all rays | ratio |")
+        print("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+        fmt = lambda v, f: (f % v) if v is not None else "not reached"
         for metric in ("rmse", "relmse"):
             for spp in GOAL_SPP:
                 goal = next(p[metric] for p in points["uniform"] if p["label"] == "%d spp" % spp)
                 cells = []
-                for key in ("cpu", "rays"):
+                for key, f in (("render_cpu", "%.3f"), ("cpu", "%.3f"), ("seconds", "%.3f"),
+                               ("rays", "%.0f")):
                     u = cost_to_reach(points["uniform"], key, metric, goal)
                     a = cost_to_reach(points["adaptive"], key, metric, goal)
-                    cells.append((u, a, a / u if a and u else None))
-                fmt = lambda v, f: (f % v) if v is not None else "not reached"
-                print("| %s %.4g (uniform %d spp) | %s | %s | %s | %s | %s | %s |" % (
-                    metric, goal, spp, fmt(cells[0][0], "%.3f"), fmt(cells[0][1], "%.3f"),
-                    fmt(cells[0][2], "%.2f"), fmt(cells[1][0], "%.0f"), fmt(cells[1][1], "%.0f"),
-                    fmt(cells[1][2], "%.2f")), flush=True)
+                    cells.append("%s → %s | %s" % (fmt(u, f), fmt(a, f),
+                                                   fmt(a / u if a and u else None, "**%.2f**"
+                                                       if key == "render_cpu" else "%.2f")))
+                print("| %s %.4g (uniform %d spp) | %s |" % (metric, goal, spp, " | ".join(cells)),
+                      flush=True)
         with open(os.path.join(args.out, "%s-commands.txt" % name), "w") as f:
             for pts in points.values():
                 f.write("\n".join(p["command"] for p in pts) + "\n")

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 namespace prism {
 
@@ -39,10 +41,9 @@ double pixel_relative_error(const PixelSums& all, const PixelSums& first_half) {
 }
 
 size_t update_active_pixels(int width, int height, const PixelSums* sums,
-                            const PixelSums* first_half, double target, std::vector<float>* error,
-                            uint8_t* active) {
-  const size_t pixels = static_cast<size_t>(width) * height;
-  error->resize(pixels);
+                            const PixelSums* first_half, double target, uint32_t samples_done,
+                            std::vector<float>* error, uint8_t* active, uint32_t* samples_taken) {
+  error->resize(static_cast<size_t>(width) * height);
   float* e = error->data();
   // Rows are independent and each value a pure function of its pixel's sums, so running
   // them in parallel cannot change the result. A stopped pixel's sums, so its error, no
@@ -54,23 +55,31 @@ size_t update_active_pixels(int width, int height, const PixelSums* sums,
         if (active[i]) e[i] = static_cast<float>(pixel_relative_error(sums[i], first_half[i]));
       }
   });
-  // The active flags are read from the error alone and written only for their own pixel.
+  // The active flags are read from the error alone and written only for their own pixel;
+  // the count is a sum of integers, the same in any order.
   const float threshold = static_cast<float>(target);
-  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y != rows.end(); ++y)
-      for (int x = 0; x < width; ++x) {
-        const size_t i = static_cast<size_t>(y) * width + x;
-        if (!active[i]) continue;
-        float worst = 0.0f;
-        for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
-          for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
-            worst = std::max(worst, e[static_cast<size_t>(ny) * width + nx]);
-        active[i] = worst > threshold ? 1 : 0;
-      }
-  });
-  size_t count = 0;
-  for (size_t i = 0; i < pixels; ++i) count += active[i];
-  return count;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, height), size_t{0},
+      [&](const tbb::blocked_range<int>& rows, size_t count) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < width; ++x) {
+            const size_t i = static_cast<size_t>(y) * width + x;
+            if (!active[i]) continue;
+            float neighbours = 0.0f;
+            for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
+              for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
+                if (ny != y || nx != x)
+                  neighbours = std::max(neighbours, e[static_cast<size_t>(ny) * width + nx]);
+            if (std::max(e[i], kNeighbourWeight * neighbours) > threshold) {
+              ++count;
+            } else {
+              active[i] = 0;
+              samples_taken[i] = samples_done;
+            }
+          }
+        return count;
+      },
+      std::plus<size_t>());
 }
 
 }  // namespace prism

@@ -131,6 +131,7 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
   std::vector<uint8_t> active(pixels, 1);
   std::vector<uint32_t> samples(pixels, 0);
   std::vector<float> error;
+  std::vector<uint8_t> tile_active;
 
   int planned = 0;
   for (int n = 0; n < spp; n = next_round_end(n, s.min_spp, spp)) ++planned;
@@ -138,14 +139,13 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
 
   RenderResult result;
   std::vector<TileRect> round_tiles = tiles;
-  for (int done = 0; done < spp;) {
+  int done = 0;
+  while (done < spp) {
     const int end = next_round_end(done, s.min_spp, spp);
     RenderContext round_context = context;
     round_context.pass = SamplePass{done, end, sums.data(), active.data(), first_half.data()};
     runner->skip(static_cast<int>(tiles.size() - round_tiles.size()));
     runner->run(round_context, round_tiles);
-    for (size_t i = 0; i < pixels; ++i)
-      if (active[i]) samples[i] = static_cast<uint32_t>(end);
     done = end;
     ++result.rounds;
     if (after_pass) runner->call(after_pass, done, *image);
@@ -156,21 +156,30 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
     }
     if (s.target_error > 0.0f) {
       size_t still_active = 0;
+      // Pixels that stop record their count here; the rest get theirs after the last round,
+      // so no round walks the whole image for it.
       runner->execute([&] {
         still_active = update_active_pixels(s.width, s.height, sums.data(), first_half.data(),
-                                            s.target_error, &error, active.data());
+                                            s.target_error, static_cast<uint32_t>(done), &error,
+                                            active.data(), samples.data());
+        // Only tiles that were in this round can still have active pixels.
+        tile_active.assign(round_tiles.size(), 0);
+        tbb::parallel_for(size_t{0}, round_tiles.size(), [&](size_t k) {
+          const TileRect& t = round_tiles[k];
+          for (int y = t.y0; y < t.y1 && !tile_active[k]; ++y)
+            for (int x = t.x0; x < t.x1 && !tile_active[k]; ++x)
+              tile_active[k] = active[static_cast<size_t>(y) * s.width + x];
+        });
       });
       if (still_active == 0) break;
-      round_tiles.clear();
-      for (const TileRect& t : tiles) {
-        bool any = false;
-        for (int y = t.y0; y < t.y1 && !any; ++y)
-          for (int x = t.x0; x < t.x1 && !any; ++x)
-            any = active[static_cast<size_t>(y) * s.width + x] != 0;
-        if (any) round_tiles.push_back(t);
-      }
+      size_t kept = 0;
+      for (size_t k = 0; k < round_tiles.size(); ++k)
+        if (tile_active[k]) round_tiles[kept++] = round_tiles[k];
+      round_tiles.resize(kept);
     }
   }
+  for (size_t i = 0; i < pixels; ++i)
+    if (active[i]) samples[i] = static_cast<uint32_t>(done);
   runner->finish();
   result.seconds = runner->seconds();
   result.rays = runner->rays();

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <numbers>
+#include <vector>
 
 #include "integrators/integrators.h"
 #include "renderer/adaptive_sampling.h"
@@ -94,6 +95,45 @@ TEST(AdaptiveSampling, ErrorEstimateIsTheStandardErrorOfTheTwoHalves) {
   EXPECT_EQ(0.0, pixel_relative_error(all, first));
   // Nothing to compare yet: not converged.
   EXPECT_TRUE(std::isinf(pixel_relative_error(all, all)));
+}
+
+// One unconverged pixel (the halves of the test above: error 0.3304) in the middle of a
+// 5 x 5 image of converged ones: its 3 x 3 neighbours keep sampling only while half its
+// error is above the target (kNeighbourWeight), it does while its own error is, and every
+// pixel that stops records the samples it took.
+TEST(AdaptiveSampling, NeighboursKeepSamplingWhileHalfAPixelsErrorIsAboveTheTarget) {
+  constexpr int kSide = 5;
+  const PixelSums converged_first{Imath::V3f(8.0f), 8, 8, Imath::V3f(8.0f)};
+  const PixelSums converged_all{Imath::V3f(16.0f), 16, 16, Imath::V3f(16.0f)};
+  const PixelSums noisy_first{Imath::V3f(8.0f), 8, 8, Imath::V3f(8.0f)};
+  const PixelSums noisy_all{Imath::V3f(12.0f), 16, 16, Imath::V3f(10.0f)};
+  const double noisy_error = pixel_relative_error(noisy_all, noisy_first);
+  ASSERT_NEAR(0.3304, noisy_error, 1e-4);
+  std::vector<PixelSums> all(kSide * kSide, converged_all), first(kSide * kSide, converged_first);
+  all[2 * kSide + 2] = noisy_all;
+  first[2 * kSide + 2] = noisy_first;
+  struct Case {
+    double target;
+    size_t active;  // pixels still sampling: the 3 x 3 block, or the noisy pixel alone
+  };
+  for (const Case c : {Case{0.9 * noisy_error / 2.0, 9}, Case{1.1 * noisy_error / 2.0, 1},
+                       Case{0.9 * noisy_error, 1}, Case{1.1 * noisy_error, 0}}) {
+    std::vector<uint8_t> active(kSide * kSide, 1);
+    std::vector<uint32_t> taken(kSide * kSide, 0);
+    std::vector<float> error;
+    EXPECT_EQ(c.active, update_active_pixels(kSide, kSide, all.data(), first.data(), c.target, 16,
+                                             &error, active.data(), taken.data()))
+        << c.target;
+    for (int y = 0; y < kSide; ++y)
+      for (int x = 0; x < kSide; ++x) {
+        const size_t i = static_cast<size_t>(y) * kSide + x;
+        const bool centre = x == 2 && y == 2;
+        const bool block = std::abs(x - 2) <= 1 && std::abs(y - 2) <= 1;
+        const bool expected = c.active == 9 ? block : (c.active == 1 && centre);
+        EXPECT_EQ(expected ? 1 : 0, active[i]) << c.target << " at " << x << "," << y;
+        EXPECT_EQ(expected ? 0u : 16u, taken[i]) << c.target << " at " << x << "," << y;
+      }
+  }
 }
 
 TEST(AdaptiveSampling, FlatRegionsStopAtTheMinimumAndEdgesKeepSampling) {
