@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -55,6 +57,8 @@ void refuse_duplicates(const std::vector<T>& values, const std::string& option) 
     if (!seen.insert(v).second) {
       if constexpr (std::is_same_v<T, std::string>)
         throw UsageError(option + " " + v + ": given twice");
+      else if constexpr (std::is_floating_point_v<T>)
+        throw UsageError(option + " " + format_error(v) + ": given twice");
       else
         throw UsageError(option + " " + std::to_string(v) + ": given twice");
     }
@@ -89,11 +93,13 @@ class Comparison {
   const BuiltScene& scene_for(const SphereOptions& spheres);
   // Renders once untimed (so first-touch page faults and cold caches stay out), then again
   // timed; both with `settings`.
-  RenderResult render_timed(const Integrator& integrator, const BuiltScene& built, int spp,
-                            int warm_up_spp, Image* image) const;
+  RenderResult render_timed(const Integrator& integrator, const BuiltScene& built,
+                            const RenderSettings& settings, int warm_up_spp, Image* image) const;
+  // The scene's settings at `spp`, uniform or, with a target error, adaptive with `spp` the cap.
+  RenderSettings settings_for(int spp, std::optional<double> target_error = std::nullopt) const;
   // What the EXR of a render with the scene built now records.
   RenderMetadata metadata_for(const std::string& integrator, const SphereOptions& spheres,
-                              const RenderResult& result, int spp) const;
+                              const RenderResult& result, const RenderSettings& settings) const;
   // Writes images/<stem>.exr (with `metadata`, or else as a copy of the file `copy_of`) and
   // its PNG preview, and points the row at the PNG.
   void save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
@@ -119,21 +125,32 @@ const BuiltScene& Comparison::scene_for(const SphereOptions& spheres) {
 }
 
 RenderResult Comparison::render_timed(const Integrator& integrator, const BuiltScene& built,
-                                      int spp, int warm_up_spp, Image* image) const {
-  RenderSettings settings = setup_.settings;
+                                      const RenderSettings& settings, int warm_up_spp,
+                                      Image* image) const {
   const Camera camera = built.scene->camera(setup_.camera(), settings.width, settings.height);
-  settings.spp = warm_up_spp;
-  render(integrator, RenderContext{*built.scene, camera, settings}, image);
-  settings.spp = spp;
+  RenderSettings warm_up = settings;
+  warm_up.spp = warm_up_spp;
+  render(integrator, RenderContext{*built.scene, camera, warm_up}, image);
   return render(integrator, RenderContext{*built.scene, camera, settings}, image);
 }
 
+RenderSettings Comparison::settings_for(int spp, std::optional<double> target_error) const {
+  RenderSettings settings = setup_.settings;
+  settings.spp = spp;
+  if (target_error) {
+    settings.target_error = static_cast<float>(*target_error);
+    settings.min_spp = o_.min_spp;
+  }
+  return settings;
+}
+
 RenderMetadata Comparison::metadata_for(const std::string& integrator, const SphereOptions& spheres,
-                                        const RenderResult& result, int spp) const {
-  SceneSetup at_spp = setup_;
-  at_spp.settings.spp = spp;
-  const RenderSettings& s = setup_.settings;
-  return render_metadata(o_.scene, at_spp, built_.scene->camera(setup_.camera(), s.width, s.height),
+                                        const RenderResult& result,
+                                        const RenderSettings& settings) const {
+  SceneSetup with_settings = setup_;
+  with_settings.settings = settings;
+  return render_metadata(o_.scene, with_settings,
+                         built_.scene->camera(setup_.camera(), settings.width, settings.height),
                          integrator, spheres, result);
 }
 
@@ -166,8 +183,10 @@ CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
   report.camera = setup_.camera().name;
   report.working_space = to_string(setup_.working_space);
   report.max_depth = s.max_depth;
+  report.min_spp = o_.min_spp;
   report.plot_metric = o_.plot_metric;
-  total_ = static_cast<int>(integrators.size() * (modes.size() * o_.spp.size() + 1));
+  const size_t runs = o_.spp.size() + o_.target_errors.size();
+  total_ = static_cast<int>(integrators.size() * (modes.size() * runs + 1));
 
   // References first: every other row is measured against one.
   std::map<IntegratorKind, Image> references;
@@ -199,11 +218,13 @@ CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
     } else {
       const BuiltScene& built = scene_for(analytic);
       // One pass of one sample warms up as well as a whole reference would, at 1/spp the cost.
-      result = render_timed(*make_integrator(kind), built, o_.reference_spp, 1, &references[kind]);
+      result = render_timed(*make_integrator(kind), built, settings_for(o_.reference_spp), 1,
+                            &references[kind]);
       row.bvh_seconds = built.bvh_seconds;
       row.peak_rss_mib = peak_rss_mib();
       fs::create_directories(cache_dir);
-      RenderMetadata metadata = metadata_for(name, analytic, result, o_.reference_spp);
+      RenderMetadata metadata =
+          metadata_for(name, analytic, result, settings_for(o_.reference_spp));
       metadata.extra.push_back(reference_metadata_entry(key));
       write_exr(cache_path, references[kind], colour_, metadata, ExrPixelType::float32);
       report.reference_notes.push_back(
@@ -230,29 +251,38 @@ CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
     report.reference_notes.push_back("all integrators: the file " + o_.reference_path);
   }
 
-  // Then every combination, one BVH per sphere mode; rows ordered as the options list them.
+  // Then every combination, one BVH per sphere mode; rows ordered as the options list them,
+  // each curve's uniform runs before its adaptive ones.
+  const int cap = *std::max_element(o_.spp.begin(), o_.spp.end());
   std::vector<std::pair<std::tuple<size_t, size_t, size_t>, CompareRow>> tests;
   for (size_t m = 0; m < modes.size(); ++m) {
     const BuiltScene& built = scene_for(modes[m]);
     for (size_t i = 0; i < integrators.size(); ++i) {
       const std::unique_ptr<Integrator> integrator = make_integrator(integrators[i]);
-      for (size_t k = 0; k < o_.spp.size(); ++k) {
-        const int spp = o_.spp[k];
+      for (size_t k = 0; k < runs; ++k) {
         CompareRow row;
         row.integrator = integrator->name();
         row.spheres = to_string(modes[m]);
-        row.spp = spp;
-        progress(row.integrator + ", " + row.spheres + ", " + std::to_string(spp) + " spp");
+        const bool uniform = k < o_.spp.size();
+        row.spp = uniform ? o_.spp[k] : cap;
+        if (!uniform) row.target_error = o_.target_errors[k - o_.spp.size()];
+        const RenderSettings settings = settings_for(row.spp, row.target_error);
+        const std::string spp_text = std::to_string(row.spp) + "spp";
+        const std::string name = row.integrator + "-" + file_safe(row.spheres) + "-" +
+                                 (uniform ? "" : file_safe(sampling_label(row)) + "-") + spp_text;
+        progress(row.integrator + ", " + row.spheres + ", " + sampling_label(row) + ", " +
+                 std::to_string(row.spp) + " spp");
         Image image;
-        const RenderResult result = render_timed(*integrator, built, spp, spp, &image);
+        // The warm-up is the same render: an adaptive one decides its samples as it goes.
+        const RenderResult result =
+            render_timed(*integrator, built, settings, settings.spp, &image);
         row.seconds = result.seconds;
         row.rays = result.rays;
         row.bvh_seconds = built.bvh_seconds;
         row.peak_rss_mib = peak_rss_mib();
         row.error = compare_images(image, references.at(integrators[i])).overall;
-        const RenderMetadata metadata = metadata_for(row.integrator, modes[m], result, spp);
-        save(row.integrator + "-" + file_safe(row.spheres) + "-" + std::to_string(spp) + "spp",
-             image, &metadata, "", &row);
+        const RenderMetadata metadata = metadata_for(row.integrator, modes[m], result, settings);
+        save(name, image, &metadata, "", &row);
         tests.push_back({{i, m, k}, row});
       }
     }
@@ -278,8 +308,8 @@ Plot make_plot(CompareReport* report) {
     const std::string curve = row.integrator + ", " + row.spheres;
     auto it = std::find(plot.curves.begin(), plot.curves.end(), curve);
     if (it == plot.curves.end()) it = plot.curves.insert(plot.curves.end(), curve);
-    plot.points.push_back({static_cast<int>(it - plot.curves.begin()), row.spp, row.seconds,
-                           plot_error(row, report->plot_metric), false});
+    plot.points.push_back({static_cast<int>(it - plot.curves.begin()), row.spp, row.target_error,
+                           row.seconds, plot_error(row, report->plot_metric), false});
     row_of_point.push_back(r);
   }
   mark_pareto_front(&plot.points);
@@ -301,6 +331,10 @@ int run(const CompareOptions& o) {
   }
   refuse_duplicates(mode_names, "--spheres");
   refuse_duplicates(o.spp, "--spp");
+  refuse_duplicates(o.target_errors, "--target-errors");
+  // As `prism render` says it: the rounds double from --min-spp (docs/sampling.md).
+  if ((o.min_spp & (o.min_spp - 1)) != 0)
+    throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
   SceneSetup setup = check_scene_options(o.scene);
   check_report_dir(o.report_dir);
   // Read before the scene, so a wrong path costs nothing.
@@ -369,6 +403,16 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
       ->capture_default_str();
   cmd->add_option("--spp", o->spp, "Comma-separated samples per pixel")
       ->delimiter(',')
+      ->check(CLI::Range(1, 1 << 16))
+      ->capture_default_str();
+  cmd->add_option("--target-errors", o->target_errors,
+                  "Comma-separated target errors: one adaptive render each (docs/sampling.md), "
+                  "with the largest --spp as the most samples a pixel takes")
+      ->delimiter(',')
+      ->check(kPositiveFinite);
+  cmd->add_option("--min-spp", o->min_spp,
+                  "Adaptive renders: samples every pixel takes before the first decision (a "
+                  "power of two)")
       ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str();
   cmd->add_option("--spheres", o->spheres,

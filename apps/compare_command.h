@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/render_setup.h"
+#include "renderer/integrator.h"
 
 namespace prism {
 
@@ -17,6 +18,10 @@ struct CompareOptions {
   std::vector<std::string> integrators{"phong", "shadow", "whitted"};
   std::vector<int> spp{1, 4, 16, 64};
   std::vector<std::string> spheres{"analytic"};
+  // Besides the uniform rows, one adaptive render (docs/sampling.md) per target error for
+  // each integrator and sphere mode, capped at the largest `spp`; empty: none.
+  std::vector<double> target_errors;
+  int min_spp = RenderSettings{}.min_spp;
   std::string reference_path;  // empty: render (or find in the cache) one per integrator
   int reference_spp = 256;
   std::string report_dir;

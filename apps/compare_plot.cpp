@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -26,6 +27,8 @@ class Canvas {
   virtual ~Canvas() = default;
   virtual void line(double x1, double y1, double x2, double y2, Rgb colour, double width) = 0;
   virtual void square(double cx, double cy, double half, Rgb colour, bool filled) = 0;
+  // Filled; `half` from the centre to each corner.
+  virtual void diamond(double cx, double cy, double half, Rgb colour) = 0;
   // `y` is the middle of the text's height.
   virtual void text(double x, double y, const std::string& text, int size, Anchor anchor,
                     Rgb colour) = 0;
@@ -43,6 +46,11 @@ class SvgCanvas : public Canvas {
          << "\" height=\"" << 2 * half << "\" "
          << (filled ? "fill=\"" + css(c) + "\"" : "fill=\"none\" stroke=\"" + css(c) + "\"")
          << "/>\n";
+  }
+  void diamond(double cx, double cy, double half, Rgb c) override {
+    out_ << "<polygon points=\"" << cx << "," << cy - half << " " << cx + half << "," << cy << " "
+         << cx << "," << cy + half << " " << cx - half << "," << cy << "\" fill=\"" << css(c)
+         << "\"/>\n";
   }
   void text(double x, double y, const std::string& text, int size, Anchor anchor, Rgb c) override {
     const char* anchors[] = {"start", "middle", "end"};
@@ -99,6 +107,14 @@ class ImageCanvas : public Canvas {
       OIIO::ImageBufAlgo::render_box(buffer_, px(cx - half) + ring, px(cy - half) + ring,
                                      px(cx + half) - ring, px(cy + half) - ring, {c.r, c.g, c.b},
                                      filled);
+  }
+  void diamond(double cx, double cy, double half, Rgb c) override {
+    // OIIO fills no polygons: one horizontal line per pixel row, narrowing to the corners.
+    const int x = px(cx), y = px(cy), h = px(half);
+    for (int dy = -h; dy <= h; ++dy) {
+      const int w = h - std::abs(dy);
+      OIIO::ImageBufAlgo::render_line(buffer_, x - w, y + dy, x + w, y + dy, {c.r, c.g, c.b});
+    }
   }
   void text(double x, double y, const std::string& text, int size, Anchor anchor, Rgb c) override {
     if (!has_font_) return;
@@ -216,9 +232,10 @@ void draw_plot(const Plot& plot, Canvas& canvas) {
   for (const PlotPoint& p : pareto) canvas.square(X(p.seconds), Y(p.error), 8, black, false);
 
   for (int c = 0; c < static_cast<int>(plot.curves.size()); ++c) {
-    std::vector<PlotPoint> curve;
+    // The uniform points joined by spp; the adaptive ones stand apart, each its own trade-off.
+    std::vector<PlotPoint> curve, adaptive;
     for (const PlotPoint& p : points)
-      if (p.curve == c) curve.push_back(p);
+      if (p.curve == c) (p.target_error ? adaptive : curve).push_back(p);
     std::sort(curve.begin(), curve.end(), [](auto& a, auto& b) { return a.spp < b.spp; });
     const Rgb colour = curve_colour(c);
     for (size_t i = 1; i < curve.size(); ++i)
@@ -229,6 +246,11 @@ void draw_plot(const Plot& plot, Canvas& canvas) {
       canvas.text(X(p.seconds) + 9, Y(p.error) - 9, std::to_string(p.spp), 10, Anchor::start,
                   colour);
     }
+    for (const PlotPoint& p : adaptive) {
+      canvas.diamond(X(p.seconds), Y(p.error), 6, colour);
+      canvas.text(X(p.seconds) + 9, Y(p.error) + 9, "e " + tick_label(*p.target_error), 10,
+                  Anchor::start, colour);
+    }
     const double ly = top + 10 + 20 * c;
     canvas.line(right + 15, ly, right + 40, ly, colour, 2);
     canvas.square(right + 27.5, ly, 4, colour, true);
@@ -238,7 +260,11 @@ void draw_plot(const Plot& plot, Canvas& canvas) {
   canvas.line(right + 15, ly, right + 40, ly, front, 8);
   canvas.square(right + 27.5, ly, 8, black, false);
   canvas.text(right + 48, ly, "Pareto front", 12, Anchor::start, black);
-  canvas.text(right + 15, ly + 22, "labels: samples per pixel", 11, Anchor::start, black);
+  canvas.text(right + 15, ly + 22, "squares: uniform, by spp", 11, Anchor::start, black);
+  if (std::any_of(points.begin(), points.end(), [](auto& p) { return p.target_error; })) {
+    canvas.diamond(right + 20, ly + 40, 5, black);
+    canvas.text(right + 30, ly + 40, "adaptive, e target error", 11, Anchor::start, black);
+  }
 }
 
 }  // namespace

@@ -1,8 +1,10 @@
 // `prism compare`'s time-versus-error plot: log-log, one curve per integrator and sphere mode,
-// points labelled by their spp, the Pareto front marked. The same drawing code writes the SVG
+// uniform points as squares labelled by their spp, adaptive ones as diamonds labelled by their
+// target error, the Pareto front marked. The same drawing code writes the SVG
 // and the PNG, through two small canvases.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@ inline constexpr int kPlotHeight = 500;
 struct PlotPoint {
   int curve = 0;  // index into Plot::curves
   int spp = 1;
+  std::optional<double> target_error;  // an adaptive render's; empty: uniform
   double seconds = 0.0;
   double error = 0.0;
   bool pareto = false;

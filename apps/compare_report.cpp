@@ -40,6 +40,14 @@ json error_field(const CompareRow& r, double ChannelError::*field) {
   return (*r.error).*field;
 }
 
+// Camera rays over pixels, as RenderResult::mean_spp: one camera ray per sample. Empty for a
+// --reference file without prism's metadata, which has no ray counts.
+std::optional<double> mean_spp(const CompareRow& row, const CompareReport& report) {
+  const double pixels = static_cast<double>(report.width) * report.height;
+  if (row.rays.camera == 0 || pixels <= 0) return std::nullopt;
+  return static_cast<double>(row.rays.camera) / pixels;
+}
+
 const std::vector<Column>& columns() {
   static const std::vector<Column> list = {
       {"scene", "scene", kFiles, [](auto&, auto& rep) { return json(rep.scene); }},
@@ -47,7 +55,15 @@ const std::vector<Column>& columns() {
        [](auto& r, auto&) { return json(r.reference ? "reference" : "test"); }},
       {"integrator", "integrator", kEverywhere, [](auto& r, auto&) { return json(r.integrator); }},
       {"spheres", "spheres", kEverywhere, [](auto& r, auto&) { return json(r.spheres); }},
+      {"sampling", "sampling", kFiles,
+       [](auto& r, auto&) { return json(r.target_error ? "adaptive" : "uniform"); }},
+      {"target_error", "target error", kFiles,
+       [](auto& r, auto&) { return optional(r.target_error); }},
+      {"sampling_label", "sampling", kTables,
+       [](auto& r, auto&) { return json(sampling_label(r)); }},
       {"spp", "spp", kEverywhere, [](auto& r, auto&) { return json(r.spp); }},
+      {"mean_spp", "mean spp", kEverywhere,
+       [](auto& r, auto& rep) { return optional(mean_spp(r, rep)); }},
       {"wall_seconds", "time s", kEverywhere, [](auto& r, auto&) { return json(r.seconds); }},
       {"bvh_build_seconds", "BVH s", kEverywhere,
        [](auto& r, auto&) { return optional(r.bvh_seconds); }},
@@ -80,6 +96,13 @@ const std::vector<Column>& columns() {
       {"image", "image", kFiles, [](auto& r, auto&) { return json(r.image); }},
   };
   return list;
+}
+
+// The first columns of the tables (integrator, spheres, sampling) are names, read left to
+// right, as is the note at the end; numbers line up on their last digit.
+constexpr size_t kNameColumns = 3;
+bool left_aligned(size_t column, size_t columns) {
+  return column < kNameColumns || column + 1 == columns;
 }
 
 // Four significant digits are plenty to read a table; the files keep full precision.
@@ -124,6 +147,10 @@ std::vector<std::vector<std::string>> table_cells(const CompareReport& report) {
 
 }  // namespace
 
+std::string sampling_label(const CompareRow& row) {
+  return row.target_error ? "adaptive " + format_error(*row.target_error) : "uniform";
+}
+
 double plot_error(const CompareRow& row, const std::string& metric) {
   if (!row.error) return std::numeric_limits<double>::quiet_NaN();
   return metric == "rmse" ? row.error->rmse : row.error->relmse;
@@ -143,6 +170,7 @@ void write_results_json(const std::string& path, const CompareReport& report) {
                     {"camera", report.camera},
                     {"working_space", report.working_space},
                     {"max_depth", report.max_depth},
+                    {"adaptive_min_spp", report.min_spp},
                     {"plot_metric", report.plot_metric},
                     {"references", report.reference_notes},
                     {"rows", rows}};
@@ -168,11 +196,10 @@ void print_table(const CompareReport& report) {
   std::vector<size_t> width(cells[0].size(), 0);
   for (const auto& line : cells)
     for (size_t i = 0; i < line.size(); ++i) width[i] = std::max(width[i], line[i].size());
-  // Names and the note read left to right; numbers line up on their last digit.
   for (const auto& line : cells) {
     std::string text;
     for (size_t i = 0; i < line.size(); ++i) {
-      const bool left = i < 2 || i + 1 == line.size();
+      const bool left = left_aligned(i, line.size());
       const std::string pad(width[i] - line[i].size(), ' ');
       text +=
           (i ? "  " : "") + (left ? line[i] + (i + 1 == line.size() ? "" : pad) : pad + line[i]);
@@ -215,8 +242,11 @@ void write_index_html(const std::string& path, const CompareReport& report) {
     html << "<div class=\"images\">\n";
     for (const CompareRow& row : report.rows) {
       if (row.integrator != group) continue;
-      const std::string caption = (row.reference ? "reference: " : "") + row.integrator + ", " +
-                                  row.spheres + ", " + std::to_string(row.spp) + " spp";
+      std::string caption = (row.reference ? "reference: " : "") + row.integrator + ", " +
+                            row.spheres + ", " + std::to_string(row.spp) + " spp";
+      if (row.target_error)
+        caption += " max, adaptive " + format_error(*row.target_error) + ", " +
+                   for_people(optional(mean_spp(row, report))) + " mean";
       html << "<figure><img src=\"" << xml_escape(row.image) << "\" width=\""
            << report.width * scale << "\" height=\"" << report.height * scale << "\" alt=\""
            << xml_escape(caption) << "\"><figcaption>" << xml_escape(caption);
@@ -235,7 +265,7 @@ void write_index_html(const std::string& path, const CompareReport& report) {
     html << "<tr>";
     for (size_t i = 0; i < cells[r].size(); ++i) {
       const char* tag = r == 0 ? "th" : "td";
-      const bool name = i < 2 || i + 1 == cells[r].size();
+      const bool name = left_aligned(i, cells[r].size());
       html << "<" << tag << (name ? " class=\"name\"" : "") << ">" << xml_escape(cells[r][i])
            << "</" << tag << ">";
     }

@@ -15,7 +15,9 @@ struct CompareRow {
   bool reference = false;  // the row of a reference render (its error columns are empty)
   std::string integrator;
   std::string spheres;
-  int spp = 1;
+  int spp = 1;  // an adaptive render's cap: the most samples a pixel may take
+  // Adaptive sampling's target error (docs/sampling.md); empty: every pixel takes `spp`.
+  std::optional<double> target_error;
   double seconds = 0.0;               // the timed render, after a warm-up
   std::optional<double> bvh_seconds;  // building the RenderScene for this sphere mode
   RayCounters rays;
@@ -32,10 +34,14 @@ struct CompareReport {
   std::string camera;
   std::string working_space;
   int max_depth = 0;
+  int min_spp = 0;                           // the adaptive rows' samples before deciding
   std::string plot_metric;                   // "rmse" or "relmse"
   std::vector<std::string> reference_notes;  // one line per reference: where it came from
   std::vector<CompareRow> rows;
 };
+
+// "uniform", or "adaptive 0.05" with the target error.
+std::string sampling_label(const CompareRow& row);
 
 // The figure of `row` that the plot and the Pareto front use (NaN without an error).
 double plot_error(const CompareRow& row, const std::string& metric);

@@ -27,17 +27,6 @@ struct QuickError {
   double relmse = 0.0;
 };
 
-// CLI11's PositiveNumber accepts NaN and prints DBL_MAX in its message.
-const CLI::Validator kPositiveFinite(
-    [](std::string& text) -> std::string {
-      char* end = nullptr;
-      const double v = std::strtod(text.c_str(), &end);
-      if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || v <= 0.0)
-        return "must be a finite number > 0, not " + text;
-      return "";
-    },
-    "POSITIVE");
-
 // "16 spp", or for an adaptive render "256 spp max, 21.7 mean, 9 rounds, time limit reached".
 std::string spp_summary(const RenderResult& result, const RenderSettings& settings) {
   std::string text = std::to_string(settings.spp) + " spp";
@@ -65,6 +54,7 @@ int run(const RenderOptions& o) {
   const auto wall_start = std::chrono::steady_clock::now();
   const IntegratorKind integrator_kind = parse_integrator_option(o.integrator, "--integrator");
   const SphereOptions spheres = parse_spheres_option(o.spheres, "--spheres");
+  const BuildQuality build_quality = parse_build_quality_option(o.build_quality, "--build-quality");
   const SphereDetectionOptions sphere_detection = check_sphere_detection_flags(o.sphere_detection);
   SceneSetup setup = check_scene_options(o.scene);
   check_output_path(o.output_path, ".exr", "-o");
@@ -90,7 +80,7 @@ int run(const RenderOptions& o) {
   settings.target_error = static_cast<float>(o.target_error);
   settings.time_limit_seconds = o.time_limit;
   settings.min_spp = o.min_spp;
-  const GeometryOptions geometry_options = setup.geometry_options(spheres, o.robust);
+  const GeometryOptions geometry_options = setup.geometry_options(spheres, o.robust, build_quality);
   const RenderScene render_scene(setup.scene, geometry_options, colour);
   const double load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
@@ -216,6 +206,9 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "output's metadata. The image itself is unchanged");
   cmd->add_flag("--half", o->half, "Write half-float EXR pixels instead of 32-bit float");
   cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)");
+  cmd->add_option("--build-quality", o->build_quality,
+                  "BVH build quality: low | medium | high (slower to build, faster to trace)")
+      ->capture_default_str();
   add_sphere_detection_options(cmd, &o->sphere_detection, true);
   cmd->add_flag("--general-path", o->general_path,
                 "Run the integrators' general code, not the one specialised on the scene's "

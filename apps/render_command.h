@@ -25,7 +25,8 @@ struct RenderOptions {
   std::string reference_path;             // measure the error against this image after every pass
   bool half = false;
   bool robust = false;
-  bool general_path = false;  // RenderSettings::specialise = false
+  std::string build_quality = "medium";  // BVH build quality (docs/benchmarks.md)
+  bool general_path = false;             // RenderSettings::specialise = false
   bool quiet = false;
   bool verbose = false;
 };

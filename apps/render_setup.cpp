@@ -92,10 +92,12 @@ void add_allow_external_paths_flag(CLI::App* cmd, bool* allow) {
                 "Let the scene's buffers and images come from outside its folder");
 }
 
-GeometryOptions SceneSetup::geometry_options(const SphereOptions& spheres, bool robust) const {
+GeometryOptions SceneSetup::geometry_options(const SphereOptions& spheres, bool robust,
+                                             BuildQuality quality) const {
   GeometryOptions g;
   g.spheres = spheres;
   g.robust = robust;
+  g.build_quality = quality;
   g.world_origin = camera_position(camera());
   return g;
 }
@@ -140,6 +142,13 @@ IntegratorKind parse_integrator_option(const std::string& text, const std::strin
   if (!parse_integrator(text, &kind))
     throw UsageError(option + " " + text + ": expected phong, shadow or whitted");
   return kind;
+}
+
+BuildQuality parse_build_quality_option(const std::string& text, const std::string& option) {
+  BuildQuality quality;
+  if (!parse_build_quality(text, &quality))
+    throw UsageError(option + " " + text + ": expected low, medium or high");
+  return quality;
 }
 
 SphereOptions parse_spheres_option(const std::string& text, const std::string& option) {

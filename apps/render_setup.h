@@ -4,7 +4,9 @@
 // summaries. One place, so the two commands accept and refuse exactly the same input.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -48,6 +50,19 @@ struct SceneOptions {
 };
 
 // Adds --scene NAME|INDEX (every command that reads a scene file offers it).
+// Accepts a finite number above 0 (CLI11's PositiveNumber accepts NaN and prints DBL_MAX in
+// its message):
+// --target-error, --time-limit, compare's --target-errors.
+inline const CLI::Validator kPositiveFinite(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || v <= 0.0)
+        return "must be a finite number > 0, not " + text;
+      return "";
+    },
+    "POSITIVE");
+
 void add_scene_select_option(CLI::App* cmd, std::string* scene);
 // load_gltf, with a --scene the file does not have reported as a UsageError (exit code 2).
 SceneDescription load_selected_scene(const std::string& path, const LoadOptions& options);
@@ -72,7 +87,8 @@ struct SceneSetup {
   }
   // Geometry rebased on the camera, so rays, hits and lights stay near 0 in float wherever
   // the scene sits in the world (docs/stress-shading.md, huge coordinates).
-  GeometryOptions geometry_options(const SphereOptions& spheres, bool robust) const;
+  GeometryOptions geometry_options(const SphereOptions& spheres, bool robust,
+                                   BuildQuality quality = GeometryOptions().build_quality) const;
 };
 
 // Checks every option that needs no file; throws UsageError naming the option.
@@ -84,6 +100,8 @@ void load_scene(const SceneOptions& options, SceneSetup* setup);
 
 // "phong" -> IntegratorKind; `option` names the flag in the error ("--integrator").
 IntegratorKind parse_integrator_option(const std::string& text, const std::string& option);
+// "low" | "medium" | "high" -> BuildQuality; `option` names the flag in the error.
+BuildQuality parse_build_quality_option(const std::string& text, const std::string& option);
 // "analytic", "mesh:3", ... -> SphereOptions; `option` names the flag in the error.
 SphereOptions parse_spheres_option(const std::string& text, const std::string& option);
 

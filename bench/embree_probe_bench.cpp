@@ -1,7 +1,7 @@
 // How close Prism gets to Embree's own speed: a plain Embree scene built straight from the
 // SceneDescription (no EmbreeScene code; meshes baked or instanced by Prism's rule, or all
-// baked with --flat; spheres as Embree's native sphere points; the same build quality as
-// Prism; no degenerate-triangle cleaning), traced with exactly the rays Prism's `shadow`
+// baked with --flat; spheres as Embree's native sphere points; Prism's default build
+// quality; no degenerate-triangle cleaning), traced with exactly the rays Prism's `shadow`
 // integrator casts at 1 spp, with no shading, one ray at a time and as 8- and 16-wide
 // packets. The same image is then rendered by Prism's `phong` and `shadow` integrators in
 // this process and the rays per second compared.
@@ -11,7 +11,7 @@
 //
 // Rays, as Prism casts them (integrators/local_shading.h):
 //   - camera rays: Prism's Camera through every pixel centre, in the frame rebased on the
-//     camera (GeometryOptions::world_origin), in the tile order of the tile loop;
+//     camera (GeometryOptions::world_origin), in the order of the tile loop's packets;
 //   - shadow rays: for each hit, one per light that light_arrival() reaches and that faces
 //     the shading normal turned towards the viewer, from the hit point moved by
 //     offset_ray_origin() along that normal, ending at the light.
@@ -94,8 +94,8 @@ class RawScene {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("rtcNewDevice failed");
     scene_ = rtcNewScene(device_);
-    // Prism builds its BVHs with the same quality, so both trace the same kind of tree.
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    // Prism's default build quality (GeometryOptions), so both trace the same kind of tree.
+    rtcSetSceneBuildQuality(scene_, embree_build_quality(GeometryOptions{}.build_quality));
     std::vector<int> uses(scene.meshes.size(), 0);
     for (const MeshInstance& instance : scene.instances) ++uses[size_t(instance.mesh)];
     std::vector<Prototype*> prototype_of(scene.meshes.size(), nullptr);
@@ -121,7 +121,8 @@ class RawScene {
         prototypes_.push_back(std::make_unique<Prototype>());
         proto = prototypes_.back().get();
         proto->scene = rtcNewScene(device_);
-        rtcSetSceneBuildQuality(proto->scene, RTC_BUILD_QUALITY_HIGH);
+        rtcSetSceneBuildQuality(proto->scene,
+                                embree_build_quality(GeometryOptions{}.build_quality));
         for (const Primitive& p : mesh.primitives) {
           BakedMesh baked = copy(p, M44d(), M44d());
           const unsigned id = attach(proto->scene, &baked);
@@ -275,17 +276,20 @@ class RawScene {
 // ---------------------------------------------------------------------------------------
 // The rays.
 
-// Pixel centres in the order the tile loop visits them (16x16 tiles, rows within a tile),
-// so that packets of consecutive rays are as coherent as Prism's own ray order.
+// Pixel centres in the order the tile loop visits them (16x16 tiles, 4x4 blocks within a
+// tile, rows within a block: integrators/tile_loop.h), so that packets of 16 consecutive
+// rays are exactly Prism's camera-ray packets.
 std::vector<Ray> camera_rays(const Camera& camera, int width, int height) {
   std::vector<Ray> rays;
   rays.reserve(size_t(width) * height);
-  constexpr int kTile = 16;
+  constexpr int kTile = 16, kBlock = 4;
   for (int ty = 0; ty < height; ty += kTile)
     for (int tx = 0; tx < width; tx += kTile)
-      for (int y = ty; y < std::min(ty + kTile, height); ++y)
-        for (int x = tx; x < std::min(tx + kTile, width); ++x)
-          rays.push_back(camera.generate_ray(float(x) + 0.5f, float(y) + 0.5f));
+      for (int by = ty; by < std::min(ty + kTile, height); by += kBlock)
+        for (int bx = tx; bx < std::min(tx + kTile, width); bx += kBlock)
+          for (int y = by; y < std::min(by + kBlock, height); ++y)
+            for (int x = bx; x < std::min(bx + kBlock, width); ++x)
+              rays.push_back(camera.generate_ray(float(x) + 0.5f, float(y) + 0.5f));
   return rays;
 }
 
@@ -419,18 +423,7 @@ class RaySet {
         }
       }
       ();
-      r.org_x[k] = ray.origin.x;
-      r.org_y[k] = ray.origin.y;
-      r.org_z[k] = ray.origin.z;
-      r.dir_x[k] = ray.direction.x;
-      r.dir_y[k] = ray.direction.y;
-      r.dir_z[k] = ray.direction.z;
-      r.tnear[k] = ray.tnear;
-      r.tfar[k] = ray.tfar;
-      r.time[k] = 0.0f;
-      r.mask[k] = 0xffffffffu;
-      r.id[k] = 0;
-      r.flags[k] = 0;
+      set_packet_lane(&r, static_cast<int>(k), ray);
       if constexpr (std::is_same_v<Packet, Hit>) {
         p->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         p->hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;

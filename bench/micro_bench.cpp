@@ -100,7 +100,7 @@ class RawSphereScene {
   RawSphereScene(const std::vector<Sphere>& spheres, SphereMode mode, int level) {
     device_ = rtcNewDevice(nullptr);
     scene_ = rtcNewScene(device_);
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(scene_, embree_build_quality(GeometryOptions{}.build_quality));
     if (mode == SphereMode::analytic) {
       analytic_ = attach_analytic_spheres(device_, scene_, spheres);
     } else if (mode == SphereMode::embree_points) {

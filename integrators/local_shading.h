@@ -16,22 +16,28 @@
 
 namespace prism {
 
-// Shadows = true casts one shadow ray per light that faces the surface; lights behind it
-// (N . L <= 0) are skipped without a ray.
-template <bool Shadows>
-Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
-                       const SurfaceResponse& surface, const Imath::V3f& to_viewer,
-                       RayCounters* counters) {
+// The local shading equation, with each light's term handed to
+// `light(radiance, shadow_ray, contribution)` in the lights' order, for every light that
+// faces the surface (lights behind it, N . L <= 0, are skipped without a ray):
+// `contribution()` is its term, which `light` adds to `radiance` if the light is visible
+// from the hit along `shadow_ray` (set only when Shadows). Returns `radiance` as the calls
+// left it, the ambient term to begin with. shade_local decides visibility at once; the
+// direct-light tile loop collects a packet's shadow rays first (integrators/direct.cpp).
+template <bool Shadows, typename LightFn>
+Imath::V3f shade_local_with(const RenderContext& context, const SurfaceHit& hit,
+                            const SurfaceResponse& surface, const Imath::V3f& to_viewer,
+                            LightFn&& light) {
   const V3f n = face_forward(surface.shading_normal, to_viewer);
   V3f radiance =
       hadamard(context.settings.ambient, surface.diffuse_albedo + surface.specular_colour) *
       surface.ambient_occlusion;
   const float lobe_norm = (surface.phong_exponent + 2.0f) * (0.5f * kInvPi);
-  for (const LightSource& light : context.scene.lights()) {
+  for (const LightSource& source : context.scene.lights()) {
     LightArrival arrival;
-    if (!light_arrival(light, hit.position, &arrival)) continue;
+    if (!light_arrival(source, hit.position, &arrival)) continue;
     const float cos_light = dot(n, arrival.to_light);
     if (cos_light <= 0.0f) continue;
+    Ray shadow_ray;
     if constexpr (Shadows) {
       // The light is on the shading normal's side. On the front side of a smooth-shaded
       // triangle the ray starts from Hanika's point on the smooth surface
@@ -42,22 +48,36 @@ Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
       // (n on the back side) the hit point itself is used.
       const bool front = dot(n, hit.geometric_normal) > 0.0f;
       const V3f from = front ? hit.position + hit.terminator_offset : hit.position;
-      Ray shadow_ray;
       shadow_ray.origin = offset_ray_origin(from, n, hit.surface_error);
       shadow_ray.direction = arrival.to_light;
       shadow_ray.tfar = arrival.distance;
-      ++counters->shadow;
-      if (context.scene.geometry().occluded(shadow_ray)) continue;
     }
-    const V3f reflected = reflect(-arrival.to_light, n);
-    const float cos_view = std::fmax(0.0f, dot(reflected, to_viewer));
-    const float specular = surface.phong_exponent > 0.0f
-                               ? lobe_norm * std::pow(cos_view, surface.phong_exponent)
-                               : lobe_norm;
-    const V3f brdf = surface.diffuse_albedo * kInvPi + surface.specular_colour * specular;
-    radiance += hadamard(brdf, arrival.irradiance) * cos_light;
+    light(radiance, shadow_ray, [&] {
+      const V3f reflected = reflect(-arrival.to_light, n);
+      const float cos_view = std::fmax(0.0f, dot(reflected, to_viewer));
+      const float specular = surface.phong_exponent > 0.0f
+                                 ? lobe_norm * std::pow(cos_view, surface.phong_exponent)
+                                 : lobe_norm;
+      const V3f brdf = surface.diffuse_albedo * kInvPi + surface.specular_colour * specular;
+      return hadamard(brdf, arrival.irradiance) * cos_light;
+    });
   }
   return radiance;
+}
+
+// Shadows = true casts one shadow ray per light that faces the surface, there and then.
+template <bool Shadows>
+Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
+                       const SurfaceResponse& surface, const Imath::V3f& to_viewer,
+                       RayCounters* counters) {
+  return shade_local_with<Shadows>(context, hit, surface, to_viewer,
+                                   [&](V3f& radiance, const Ray& shadow_ray, auto&& contribution) {
+                                     if constexpr (Shadows) {
+                                       ++counters->shadow;
+                                       if (context.scene.geometry().occluded(shadow_ray)) return;
+                                     }
+                                     radiance += contribution();
+                                   });
 }
 
 }  // namespace prism

@@ -19,39 +19,36 @@ bool keeps_alpha(const SurfaceFilter& f, const RTCFilterFunctionNArguments* args
   const float alpha = f.alpha(primitive, RTCHitN_u(args->hit, n, i), RTCHitN_v(args->hit, n, i));
   if (f.mode == AlphaMode::mask) return alpha >= f.cutoff;
   const auto* context = reinterpret_cast<const TraceContext*>(args->context);
-  return blend_uniform(ray_hash(*context->ray), RTCHitN_instID(args->hit, n, i, 0),
+  return blend_uniform(ray_hash(context->rays[i]), RTCHitN_instID(args->hit, n, i, 0),
                        RTCHitN_geomID(args->hit, n, i), primitive) < alpha;
 }
 
-void intersect_filter(const RTCFilterFunctionNArguments* args) {
-  const auto& f = *static_cast<const SurfaceFilter*>(args->geometryUserPtr);
-  const auto* context = reinterpret_cast<const TraceContext*>(args->context);
-  const unsigned n = args->N;
-  for (unsigned i = 0; i < n; ++i) {
-    if (args->valid[i] == 0) continue;
-    if (f.cull_camera_back_faces && context->ray->from_camera) {
-      // Ray and Ng are both in the hit geometry's own space (object space inside an
-      // instance), where the sign of their dot product says which side the ray arrives at
-      // whatever the transform. Embree's Ng points out of the counter-clockwise front face.
-      const float facing = RTCRayN_dir_x(args->ray, n, i) * RTCHitN_Ng_x(args->hit, n, i) +
-                           RTCRayN_dir_y(args->ray, n, i) * RTCHitN_Ng_y(args->hit, n, i) +
-                           RTCRayN_dir_z(args->ray, n, i) * RTCHitN_Ng_z(args->hit, n, i);
-      if (facing > 0.0f) {
-        args->valid[i] = 0;
-        continue;
-      }
-    }
-    if (!keeps_alpha(f, args, i)) args->valid[i] = 0;
-  }
-}
-
-void occluded_filter(const RTCFilterFunctionNArguments* args) {
+// Shadow and camera rays alike: alpha decides whether a surface is there at all.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto& f = *static_cast<const SurfaceFilter*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i)
     if (args->valid[i] != 0 && !keeps_alpha(f, args, i)) args->valid[i] = 0;
 }
 
 }  // namespace
+
+void cull_camera_back_faces(const RTCFilterFunctionNArguments* args) {
+  const auto* context = reinterpret_cast<const TraceContext*>(args->context);
+  const unsigned n = args->N;
+  for (unsigned i = 0; i < n; ++i) {
+    if (args->valid[i] == 0) continue;
+    if (!context->culling->culls(RTCHitN_instID(args->hit, n, i, 0),
+                                 RTCHitN_geomID(args->hit, n, i)))
+      continue;
+    // Ray and Ng are both in the hit geometry's own space (object space inside an instance),
+    // where the sign of their dot product says which side the ray arrives at whatever the
+    // transform. Embree's Ng points out of the counter-clockwise front face.
+    const float facing = RTCRayN_dir_x(args->ray, n, i) * RTCHitN_Ng_x(args->hit, n, i) +
+                         RTCRayN_dir_y(args->ray, n, i) * RTCHitN_Ng_y(args->hit, n, i) +
+                         RTCRayN_dir_z(args->ray, n, i) * RTCHitN_Ng_z(args->hit, n, i);
+    if (facing > 0.0f) args->valid[i] = 0;
+  }
+}
 
 float SurfaceFilter::alpha(unsigned primitive, float u, float v) const {
   if (!material) return alpha_factor;
@@ -72,8 +69,6 @@ SurfaceFilter make_surface_filter(const MaterialDescription* description, const 
   SurfaceFilter f;
   f.indices = indices;
   f.attributes = attributes;
-  // glTF's default material is opaque and single-sided.
-  f.cull_camera_back_faces = !description || !description->double_sided;
   if (!description || description->alpha_mode == AlphaMode::opaque) return f;
   f.mode = description->alpha_mode;
   f.cutoff = description->alpha_cutoff;
@@ -92,9 +87,8 @@ SurfaceFilter make_surface_filter(const MaterialDescription* description, const 
 void attach_surface_filter(RTCGeometry geometry, const SurfaceFilter* filter) {
   if (!needs_filter(*filter)) return;
   rtcSetGeometryUserData(geometry, const_cast<SurfaceFilter*>(filter));
-  rtcSetGeometryIntersectFilterFunction(geometry, intersect_filter);
-  if (filter->mode != AlphaMode::opaque)
-    rtcSetGeometryOccludedFilterFunction(geometry, occluded_filter);
+  rtcSetGeometryIntersectFilterFunction(geometry, alpha_filter);
+  rtcSetGeometryOccludedFilterFunction(geometry, alpha_filter);
 }
 
 uint64_t ray_hash(const Ray& ray) {

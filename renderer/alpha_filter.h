@@ -16,12 +16,19 @@
 //     closed single-sided object still casts shadows and glass still refracts out of its
 //     back faces (docs/materials.md explains the choice).
 //
-// Filters are attached only to geometries whose material needs one: an opaque, double-sided
-// mesh, and every sphere, costs nothing. Spheres ignore alpha modes and are seen from both
-// sides in all three sphere modes.
+// Alpha filters are attached only to geometries whose material needs one: an opaque mesh,
+// and every sphere, costs nothing. Culling is not a geometry filter: a filter on every
+// single-sided mesh (most glTF files) ran on every candidate hit of every ray and cost 4-5 %
+// of the render (docs/benchmarks.md), while a camera ray's nearest hit is a back face only
+// rarely. EmbreeScene traces camera rays without culling and, only when the nearest hit is
+// the back face of a single-sided mesh, traces that ray once more with
+// cull_camera_back_faces as the context filter: the hit found is the one a culling filter
+// would have found. Spheres ignore alpha modes and are seen from both sides in all three
+// sphere modes.
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <Imath/ImathVec.h>
 #include <embree3/rtcore.h>
@@ -37,19 +44,45 @@ namespace prism {
 // filters (rtcInitIntersectContext(3)), which is how they learn about the ray as Prism
 // traced it: its kind, and the world-frame origin and direction the BLEND hash reads (the
 // filter's own ray is in object space inside instances).
+struct BackFaceCulling;
+
 struct TraceContext {
   RTCIntersectContext embree;  // first, so that a pointer to it is a pointer to this
-  const Ray* ray = nullptr;
+  // The traced rays, by the lane index Embree gives the filters (one for rtcIntersect1).
+  const Ray* rays = nullptr;
+  // Set, with embree.filter = cull_camera_back_faces, only for a culling trace.
+  const BackFaceCulling* culling = nullptr;
 
-  explicit TraceContext(const Ray& traced) : ray(&traced) { rtcInitIntersectContext(&embree); }
+  explicit TraceContext(const Ray* traced) : rays(traced) { rtcInitIntersectContext(&embree); }
 };
+
+// Which triangle geometries belong to single-sided materials, by Embree's ids: a geometry of
+// the top-level scene by its geomID, one inside an instance by the instance's geomID (the
+// hit's instID[0]) and its geomID in the instanced scene.
+struct BackFaceCulling {
+  std::vector<uint8_t> top_level;                      // 1: single-sided
+  std::vector<const std::vector<uint8_t>*> instanced;  // the prototype's flags, or null
+  bool any = false;                                    // some geometry is single-sided
+
+  bool culls(unsigned instance, unsigned geometry) const {
+    if (instance != RTC_INVALID_GEOMETRY_ID) {
+      const std::vector<uint8_t>* flags =
+          instance < instanced.size() ? instanced[instance] : nullptr;
+      return flags && geometry < flags->size() && (*flags)[geometry] != 0;
+    }
+    return geometry < top_level.size() && top_level[geometry] != 0;
+  }
+};
+
+// The context filter of a culling trace: drops back-face hits on single-sided geometries.
+// The scenes traced must have RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION.
+void cull_camera_back_faces(const RTCFilterFunctionNArguments* args);
 
 // One triangle geometry's filter state: the material's rule, and where the alpha at a hit
 // comes from. Points into the material and the mesh, which must outlive it and not move.
 struct SurfaceFilter {
   AlphaMode mode = AlphaMode::opaque;
   float cutoff = 0.5f;
-  bool cull_camera_back_faces = false;
   // The alpha is base_colour_alpha(*material, hit) (renderer/material.h: the factor, the
   // base colour texture through its texCoord and transform, COLOR_0), the same as the
   // shading reads; alpha_factor alone when there is no resolved material.
@@ -71,13 +104,19 @@ struct SurfaceFilter {
 SurfaceFilter make_surface_filter(const MaterialDescription* description, const Material* material,
                                   const uint32_t* indices, const VertexAttributes* attributes);
 
-// True when `filter` changes any query: alpha testing or culling.
+// True when `filter` changes any query (alpha testing).
 inline bool needs_filter(const SurfaceFilter& filter) {
-  return filter.mode != AlphaMode::opaque || filter.cull_camera_back_faces;
+  return filter.mode != AlphaMode::opaque;
 }
 
-// Registers `filter` on an uncommitted triangle geometry: the intersection filter when it
-// needs one, and the occlusion filter only for alpha (shadow rays never cull).
+// Whether camera rays skip the back faces of a mesh of this material: glTF's doubleSided
+// false, the default (null is glTF's default material).
+inline bool is_single_sided(const MaterialDescription* description) {
+  return !description || !description->double_sided;
+}
+
+// Registers `filter`'s intersection and occlusion filters on an uncommitted triangle
+// geometry, when it needs them.
 void attach_surface_filter(RTCGeometry geometry, const SurfaceFilter* filter);
 
 // The hash of a traced ray that the BLEND decision starts from, and the uniform number in

@@ -1,9 +1,13 @@
 #include "renderer/embree_scene.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+
+#include <tbb/parallel_for.h>
 
 #include "renderer/embree_ray.h"
 #include "renderer/math.h"
@@ -24,8 +28,24 @@ struct EmbreeScene::TriangleMesh {
   VertexAttributes attributes;
   bool has_attributes = false;  // any of them: hits point the material at `attributes`
   std::vector<uint32_t> indices;
+  // Per triangle: the unit normal of its float vertices, formed in double. Embree's float Ng
+  // of a long sliver triangle can point well off the plane, or be zero, and a ray offset
+  // along a wrong normal re-hits the triangle it leaves (tests/stress/02_reintersect_test.cpp).
+  // Formed once here rather than at every hit, where it cost more than the rest of the hit.
+  // Out of the counter-clockwise front face, as Embree's Ng.
+  std::vector<V3f> face_normals;
   int material = -1;
   size_t vertex_count() const { return positions.empty() ? 0 : positions.size() - 1; }
+
+  // Once the triangles are final (cleaned).
+  void compute_face_normals() {
+    face_normals.resize(indices.size() / 3);
+    for (size_t t = 0; t < face_normals.size(); ++t) {
+      const uint32_t* tri = &indices[3 * t];
+      const V3d p0(positions[tri[0]]), p1(positions[tri[1]]), p2(positions[tri[2]]);
+      face_normals[t] = V3f((p1 - p0).cross(p2 - p0).normalized());
+    }
+  }
 
   // Takes the primitive's attributes that have one value per vertex (the loader checks
   // that; a primitive made in code may not), once `positions` is final.
@@ -151,7 +171,9 @@ std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Pr
   clean_mesh(&mesh->positions, &mesh->normals, &mesh->indices, &counts);
   *dropped_degenerate += counts.degenerate;
   *dropped_nonfinite += counts.nonfinite;
-  statistics_.normals_repaired += counts.normals_repaired;
+  // The constructor copies several primitives at once.
+  std::atomic_ref<size_t>(statistics_.normals_repaired) += counts.normals_repaired;
+  mesh->compute_face_normals();
   mesh->positions.push_back(V3f(0.0f));
   mesh->take_attributes(p, p.tangents);
   return mesh;
@@ -161,6 +183,7 @@ std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Pr
 struct EmbreeScene::Prototype {
   RTCScene scene = nullptr;
   std::vector<std::unique_ptr<TriangleMesh>> geometries;  // by geomID in `scene`
+  std::vector<uint8_t> single_sided;                      // by geomID (BackFaceCulling)
 };
 
 struct EmbreeScene::Instance {
@@ -178,10 +201,18 @@ struct EmbreeScene::GeometryRecord {
 
 namespace {
 
-void report_embree_error(void* message_out, RTCError code, const char* message) {
+// Where Embree's first error goes; Embree may report from several threads at once (the
+// prototypes are committed in parallel).
+struct EmbreeErrors {
+  std::mutex mutex;
+  std::string first;
+};
+
+void report_embree_error(void* errors_out, RTCError code, const char* message) {
   if (code == RTC_ERROR_NONE) return;
-  auto* out = static_cast<std::string*>(message_out);
-  if (out->empty()) *out = message ? message : "unknown Embree error";
+  auto* errors = static_cast<EmbreeErrors*>(errors_out);
+  const std::lock_guard<std::mutex> lock(errors->mutex);
+  if (errors->first.empty()) errors->first = message ? message : "unknown Embree error";
 }
 
 M44f to_float(const M44d& m) {
@@ -235,16 +266,63 @@ std::vector<Imath::V4f> bake_tangents(const std::vector<Imath::V4f>& tangents,
 
 }  // namespace
 
+RTCBuildQuality embree_build_quality(BuildQuality quality) {
+  switch (quality) {
+    case BuildQuality::low:
+      return RTC_BUILD_QUALITY_LOW;
+    case BuildQuality::medium:
+      return RTC_BUILD_QUALITY_MEDIUM;
+    case BuildQuality::high:
+      break;
+  }
+  return RTC_BUILD_QUALITY_HIGH;
+}
+
+const char* to_string(BuildQuality quality) {
+  switch (quality) {
+    case BuildQuality::low:
+      return "low";
+    case BuildQuality::medium:
+      return "medium";
+    case BuildQuality::high:
+      break;
+  }
+  return "high";
+}
+
+bool parse_build_quality(const std::string& text, BuildQuality* quality) {
+  for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
+    if (text == to_string(q)) {
+      *quality = q;
+      return true;
+    }
+  }
+  return false;
+}
+
 EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options,
                          const std::vector<Material>& materials)
     : world_origin_(options.world_origin) {
-  std::string error;
+  EmbreeErrors error;
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("cannot create the Embree device");
   rtcSetDeviceErrorFunction(device_, report_embree_error, &error);
+  // Only a scene with a single-sided mesh needs the culling trace's context filter
+  // (renderer/alpha_filter.h); the flag is set on every scene, instanced ones too, since
+  // Embree reads it from the scene being traversed.
+  for (const MeshInstance& inst : scene.instances) {
+    if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
+    for (const Primitive& p : scene.meshes[inst.mesh].primitives)
+      culling_.any = culling_.any || single_sided(scene, p.material);
+  }
+  const RTCSceneFlags flags = static_cast<RTCSceneFlags>(
+      (options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+      (options.compact ? RTC_SCENE_FLAG_COMPACT : RTC_SCENE_FLAG_NONE) |
+      (culling_.any ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_NONE));
   scene_ = rtcNewScene(device_);
-  rtcSetSceneFlags(scene_, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(scene_, flags);
+  const RTCBuildQuality quality = embree_build_quality(options.build_quality);
+  rtcSetSceneBuildQuality(scene_, quality);
 
   auto record = [&](unsigned geom_id, GeometryRecord r) {
     if (records_.size() <= geom_id) records_.resize(geom_id + 1);
@@ -267,7 +345,28 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
   };
   std::vector<PrototypeUse> prototype_of(scene.meshes.size());
 
-  for (const MeshInstance& inst : scene.instances) {
+  // Each primitive's TriangleMesh (baked for a mesh placed once, copied for a prototype) is
+  // made in parallel: their per-vertex copy, bake and clean are independent and, serial, cost
+  // about as much as Embree's own (parallel) build. They are attached to Embree afterwards one
+  // at a time in the scene's order, so every geomID, and so every image, is the serial one.
+  struct MeshJob {
+    const Primitive* primitive = nullptr;
+    M44d to_shifted;  // baked only
+    bool baked = false;
+    std::unique_ptr<TriangleMesh> mesh;
+    CleaningCounts counts;
+  };
+  struct Placement {
+    bool placed = false;
+    M44d to_shifted;
+    size_t first_job = 0;  // baked: its primitives' jobs, in order
+  };
+  std::vector<MeshJob> jobs;
+  std::vector<Placement> placements(scene.instances.size());
+  constexpr size_t kNoJob = ~size_t(0);
+  std::vector<size_t> prototype_jobs(scene.meshes.size(), kNoJob);
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const MeshInstance& inst = scene.instances[i];
     if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
     const Mesh& mesh = scene.meshes[inst.mesh];
     // A node that is not finite, or flattens its mesh (determinant 0), places nothing that
@@ -281,46 +380,94 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
           triangles;
       continue;
     }
-    const M44d to_shifted = inst.object_to_world * shift;
+    Placement& placement = placements[i];
+    placement.placed = true;
+    placement.to_shifted = inst.object_to_world * shift;
     if (uses[inst.mesh] == 1) {
-      for (const Primitive& p : mesh.primitives) {
-        auto baked = std::make_unique<TriangleMesh>();
-        bake(p, to_shifted, &baked->positions, &baked->normals, &baked->indices);
-        CleaningCounts counts;
-        clean_mesh(&baked->positions, &baked->normals, &baked->indices, &counts);
-        statistics_.degenerate_triangles += counts.degenerate;
-        statistics_.nonfinite_triangles += counts.nonfinite;
-        statistics_.normals_repaired += counts.normals_repaired;
+      placement.first_job = jobs.size();
+      for (const Primitive& p : mesh.primitives)
+        jobs.push_back(MeshJob{&p, placement.to_shifted, true, nullptr, {}});
+    } else if (prototype_jobs[inst.mesh] == kNoJob) {
+      prototype_jobs[inst.mesh] = jobs.size();
+      for (const Primitive& p : mesh.primitives)
+        jobs.push_back(MeshJob{&p, M44d(), false, nullptr, {}});
+    }
+  }
+  tbb::parallel_for(size_t(0), jobs.size(), [&](size_t j) {
+    MeshJob& job = jobs[j];
+    const Primitive& p = *job.primitive;
+    if (!job.baked) {
+      job.mesh = copy_for_embree(p, &job.counts.degenerate, &job.counts.nonfinite);
+      return;
+    }
+    job.mesh = std::make_unique<TriangleMesh>();
+    TriangleMesh& baked = *job.mesh;
+    bake(p, job.to_shifted, &baked.positions, &baked.normals, &baked.indices);
+    clean_mesh(&baked.positions, &baked.normals, &baked.indices, &job.counts);
+    if (baked.indices.empty()) return;
+    baked.compute_face_normals();
+    baked.positions.push_back(V3f(0.0f));  // Embree's read-ahead padding
+    baked.take_attributes(p, bake_tangents(p.tangents, job.to_shifted));
+    baked.material = p.material;
+  });
+
+  // The prototypes, each mesh's primitives in order; their BVHs are small, so Embree's
+  // parallel build of one keeps few threads busy and several are committed at once.
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (prototype_jobs[m] == kNoJob) continue;
+    PrototypeUse& use = prototype_of[m];
+    auto proto = std::make_unique<Prototype>();
+    proto->scene = rtcNewScene(device_);
+    rtcSetSceneFlags(proto->scene, flags);
+    rtcSetSceneBuildQuality(proto->scene, quality);
+    const size_t end = prototype_jobs[m] + scene.meshes[m].primitives.size();
+    for (size_t j = prototype_jobs[m]; j < end; ++j) {
+      MeshJob& job = jobs[j];
+      use.degenerate += job.counts.degenerate;
+      use.nonfinite += job.counts.nonfinite;
+      if (job.mesh->indices.empty()) continue;
+      use.triangles += job.mesh->indices.size() / 3;
+      const unsigned id =
+          attach_triangles(proto->scene, *job.mesh, surface_filter(scene, *job.mesh, materials));
+      if (proto->geometries.size() <= id) {
+        proto->geometries.resize(id + 1);
+        proto->single_sided.resize(id + 1, 0);
+      }
+      proto->geometries[id] = std::move(job.mesh);
+      proto->single_sided[id] = single_sided(scene, job.primitive->material);
+    }
+    use.prototype = proto.get();
+    prototypes_.push_back(std::move(proto));
+  }
+  tbb::parallel_for(size_t(0), prototypes_.size(),
+                    [&](size_t i) { rtcCommitScene(prototypes_[i]->scene); });
+
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Placement& placement = placements[i];
+    if (!placement.placed) continue;
+    const MeshInstance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[inst.mesh];
+    if (uses[inst.mesh] == 1) {
+      for (size_t j = placement.first_job; j < placement.first_job + mesh.primitives.size(); ++j) {
+        MeshJob& job = jobs[j];
+        statistics_.degenerate_triangles += job.counts.degenerate;
+        statistics_.nonfinite_triangles += job.counts.nonfinite;
+        statistics_.normals_repaired += job.counts.normals_repaired;
+        std::unique_ptr<TriangleMesh>& baked = job.mesh;
         if (baked->indices.empty()) continue;
         statistics_.triangles += baked->indices.size() / 3;
-        baked->positions.push_back(V3f(0.0f));  // Embree's read-ahead padding
-        baked->take_attributes(p, bake_tangents(p.tangents, to_shifted));
-        baked->material = p.material;
-        record(attach_triangles(scene_, *baked, surface_filter(scene, *baked, materials)),
-               {GeometryRecord::Kind::triangles, baked.get(), 0});
+        const unsigned id =
+            attach_triangles(scene_, *baked, surface_filter(scene, *baked, materials));
+        record(id, {GeometryRecord::Kind::triangles, baked.get(), 0});
+        if (culling_.top_level.size() <= id) culling_.top_level.resize(id + 1, 0);
+        culling_.top_level[id] = single_sided(scene, job.primitive->material);
         baked_.push_back(std::move(baked));
         ++statistics_.meshes_baked;
       }
       continue;
     }
-    PrototypeUse& use = prototype_of[inst.mesh];
-    if (!use.prototype) {
-      auto proto = std::make_unique<Prototype>();
-      proto->scene = rtcNewScene(device_);
-      rtcSetSceneFlags(proto->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-      for (const Primitive& p : mesh.primitives) {
-        auto geometry = copy_for_embree(p, &use.degenerate, &use.nonfinite);
-        if (geometry->indices.empty()) continue;
-        use.triangles += geometry->indices.size() / 3;
-        const unsigned id =
-            attach_triangles(proto->scene, *geometry, surface_filter(scene, *geometry, materials));
-        if (proto->geometries.size() <= id) proto->geometries.resize(id + 1);
-        proto->geometries[id] = std::move(geometry);
-      }
-      rtcCommitScene(proto->scene);
-      use.prototype = proto.get();
-      prototypes_.push_back(std::move(proto));
-    }
+    const PrototypeUse& use = prototype_of[inst.mesh];
+    const M44d& to_shifted = placement.to_shifted;
     statistics_.triangles += use.triangles;
     statistics_.degenerate_triangles += use.degenerate;
     statistics_.nonfinite_triangles += use.nonfinite;
@@ -338,6 +485,8 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
     const unsigned id = rtcAttachGeometry(scene_, g);
     rtcReleaseGeometry(g);
     record(id, {GeometryRecord::Kind::instance, nullptr, instances_.size()});
+    if (culling_.instanced.size() <= id) culling_.instanced.resize(id + 1, nullptr);
+    culling_.instanced[id] = &instance.prototype->single_sided;
     instances_.push_back(instance);
     ++statistics_.mesh_instances;
   }
@@ -371,7 +520,7 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
   }
 
   rtcCommitScene(scene_);
-  if (!error.empty()) throw std::runtime_error("Embree: " + error);
+  if (!error.first.empty()) throw std::runtime_error("Embree: " + error.first);
   rtcSetDeviceErrorFunction(device_, nullptr, nullptr);
   RTCBounds b;
   rtcGetSceneBounds(scene_, &b);
@@ -385,6 +534,11 @@ EmbreeScene::~EmbreeScene() {
   for (auto& p : prototypes_) rtcReleaseScene(p->scene);
   if (scene_) rtcReleaseScene(scene_);
   if (device_) rtcReleaseDevice(device_);
+}
+
+bool EmbreeScene::single_sided(const SceneDescription& scene, int material) {
+  const bool known = material >= 0 && static_cast<size_t>(material) < scene.materials.size();
+  return is_single_sided(known ? &scene.materials[static_cast<size_t>(material)] : nullptr);
 }
 
 const SurfaceFilter* EmbreeScene::surface_filter(const SceneDescription& scene,
@@ -421,13 +575,7 @@ void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& r
   const float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
   hit->position =
       w * mesh.positions[tri[0]] + u * mesh.positions[tri[1]] + v * mesh.positions[tri[2]];
-  // The normal of the float vertices, formed in double: Embree's float Ng of a long sliver
-  // triangle can point well off the plane, or be zero, and a ray offset along a wrong normal
-  // re-hits the triangle it leaves (tests/stress/02_reintersect_test.cpp). The cross product
-  // of the counter-clockwise edges points out of the front face, as Embree's Ng does.
-  const V3d p0(mesh.positions[tri[0]]), p1(mesh.positions[tri[1]]), p2(mesh.positions[tri[2]]);
-  const V3d ng = (p1 - p0).cross(p2 - p0);
-  hit->geometric_normal = V3f(ng.normalized());
+  hit->geometric_normal = mesh.face_normals[rh.hit.primID];
   hit->terminator_offset = V3f(0.0f);
   hit->surface_error = 0.0f;
   if (!mesh.normals.empty()) {
@@ -473,13 +621,76 @@ bool ray_is_valid(const Ray& ray) {
 
 }  // namespace
 
+bool EmbreeScene::culled_back_face(const Ray& ray, const RTCRayHit& rh) const {
+  if (!ray.from_camera || !culling_.culls(rh.hit.instID[0], rh.hit.geomID)) return false;
+  // The culling filter's test, in world space: Ng is in the hit geometry's own space, and
+  // normals move with the inverse transpose, which keeps the sign of their dot product with
+  // a direction.
+  V3f ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+    V3f world;
+    instances_[records_[rh.hit.instID[0]].index].normal_to_world.multDirMatrix(ng, world);
+    ng = world;
+  }
+  return dot(ray.direction, ng) > 0.0f;
+}
+
 bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
   if (!ray_is_valid(ray)) return false;
-  TraceContext context(ray);  // the surface filters read the ray from it
+  TraceContext context(&ray);  // the surface filters read the ray from it
   RTCRayHit rh = to_rtc_rayhit(ray);
   rtcIntersect1(scene_, &context.embree, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  if (culled_back_face(ray, rh) && !trace_culling(ray, &rh)) return false;
+  resolve_hit(ray, rh, hit);
+  return true;
+}
 
+bool EmbreeScene::trace_culling(const Ray& ray, RTCRayHit* rh) const {
+  TraceContext context(&ray);
+  context.culling = &culling_;
+  context.embree.filter = cull_camera_back_faces;
+  *rh = to_rtc_rayhit(ray);
+  rtcIntersect1(scene_, &context.embree, rh);
+  return rh->hit.geomID != RTC_INVALID_GEOMETRY_ID;
+}
+
+void EmbreeScene::intersect_packet(const Ray* rays, int count, SurfaceHit* hits,
+                                   bool* found) const {
+  static_assert(kPacketSize == 16, "traced with rtcIntersect16");
+  if (count <= 0) return;
+  alignas(64) int valid[kPacketSize];
+  alignas(64) RTCRayHit16 packet;
+  for (int i = 0; i < kPacketSize; ++i) {
+    const bool traced = i < count && ray_is_valid(rays[i]);
+    valid[i] = traced ? -1 : 0;
+    set_packet_lane(&packet.ray, i, rays[traced ? i : 0]);
+    packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  TraceContext context(rays);  // the filters find lane i's ray at rays[i]
+  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect16(valid, scene_, &context.embree, &packet);
+  for (int i = 0; i < count; ++i) {
+    found[i] = false;
+    if (valid[i] == 0 || packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    RTCRayHit rh = to_rtc_rayhit(rays[i]);
+    rh.ray.tfar = packet.ray.tfar[i];
+    rh.hit.Ng_x = packet.hit.Ng_x[i];
+    rh.hit.Ng_y = packet.hit.Ng_y[i];
+    rh.hit.Ng_z = packet.hit.Ng_z[i];
+    rh.hit.u = packet.hit.u[i];
+    rh.hit.v = packet.hit.v[i];
+    rh.hit.primID = packet.hit.primID[i];
+    rh.hit.geomID = packet.hit.geomID[i];
+    rh.hit.instID[0] = packet.hit.instID[0][i];
+    if (culled_back_face(rays[i], rh) && !trace_culling(rays[i], &rh)) continue;
+    resolve_hit(rays[i], rh, &hits[i]);
+    found[i] = true;
+  }
+}
+
+void EmbreeScene::resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const {
   hit->t = rh.ray.tfar;
   hit->object_to_world = nullptr;
   if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
@@ -542,13 +753,28 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceHit* hit) const {
   hit->back_face = cos_incidence > 0.0f;
   hit->cos_incidence = std::fabs(cos_incidence);
   hit->cone_width = ray.cone_width + ray.cone_spread * hit->t;
-  return true;
+}
+
+void EmbreeScene::occluded_packet(const Ray* rays, int count, bool* blocked) const {
+  static_assert(kPacketSize == 16, "traced with rtcOccluded16");
+  if (count <= 0) return;
+  alignas(64) int valid[kPacketSize];
+  alignas(64) RTCRay16 packet;
+  for (int i = 0; i < kPacketSize; ++i) {
+    const bool traced = i < count && ray_is_valid(rays[i]);
+    valid[i] = traced ? -1 : 0;
+    set_packet_lane(&packet, i, rays[traced ? i : 0]);
+  }
+  TraceContext context(rays);  // the alpha filters find lane i's ray at rays[i]
+  rtcOccluded16(valid, scene_, &context.embree, &packet);
+  // As occluded(): a ray that cannot be traced is blocked.
+  for (int i = 0; i < count; ++i) blocked[i] = valid[i] == 0 || packet.tfar[i] < 0.0f;
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const {
   // Blocked: a shadow ray that cannot be traced must not light the point it came from.
   if (!ray_is_valid(ray)) return true;
-  TraceContext context(ray);  // the surface filters read the ray from it
+  TraceContext context(&ray);  // the surface filters read the ray from it
   RTCRay r = to_rtc_ray(ray);
   rtcOccluded1(scene_, &context.embree, &r);
   return r.tfar < 0.0f;

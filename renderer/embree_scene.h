@@ -17,6 +17,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Imath/ImathBox.h>
@@ -31,10 +32,25 @@
 
 namespace prism {
 
+// Embree's BVH build quality (RTC_BUILD_QUALITY_*): a better tree traces faster and takes
+// longer to build; which pays depends on how many rays the tree will see
+// (docs/benchmarks.md, "BVH build quality and flags").
+enum class BuildQuality { low, medium, high };
+// "low", "medium", "high"; parse_build_quality returns false for anything else.
+const char* to_string(BuildQuality quality);
+RTCBuildQuality embree_build_quality(BuildQuality quality);
+bool parse_build_quality(const std::string& text, BuildQuality* quality);
+
 struct GeometryOptions {
   SphereOptions spheres;
   // Watertight triangle test and robust traversal (RTC_SCENE_FLAG_ROBUST), at some speed.
   bool robust = false;
+  // For every BVH: the top-level scene and the prototypes of instanced meshes. HIGH (spatial
+  // splits) built 2.2 to 5 times slower than MEDIUM for at most 3 % fewer instructions per
+  // render; LOW built and traced as MEDIUM.
+  BuildQuality build_quality = BuildQuality::medium;
+  // RTC_SCENE_FLAG_COMPACT: 40 % less BVH memory, traced 10 to 16 % slower (1M triangles).
+  bool compact = false;
   // The world-space point that becomes (0, 0, 0) for Embree and the integrators; (0, 0, 0)
   // keeps world coordinates. The camera's position is the best choice.
   Imath::V3d world_origin{0.0, 0.0, 0.0};
@@ -71,6 +87,18 @@ class EmbreeScene {
   // that a broken shadow ray can darken a pixel but never light it.
   bool occluded(const Ray& ray) const;
 
+  // The nearest hits of `count` (at most kPacketSize) coherent rays, such as the camera
+  // rays of a 4 x 4 pixel block, traced as one Embree packet (rtcIntersect16): Embree visits
+  // each BVH node once for all of them. found[i] says whether rays[i] hit; the hits are
+  // those intersect() finds, culling and filters included, except that a ray meeting a
+  // shared triangle edge within rounding may get the other triangle
+  // (tests/packet_trace_test.cpp).
+  static constexpr int kPacketSize = 16;
+  void intersect_packet(const Ray* rays, int count, SurfaceHit* hits, bool* found) const;
+  // occluded() for `count` (at most kPacketSize) rays at once (rtcOccluded16), such as the
+  // shadow rays of a packet of camera hits towards one light.
+  void occluded_packet(const Ray* rays, int count, bool* blocked) const;
+
   // In the shifted frame (world minus world_origin).
   Imath::Box3f bounds() const { return bounds_; }
   const Imath::V3d& world_origin() const { return world_origin_; }
@@ -89,7 +117,15 @@ class EmbreeScene {
   // The filter the mesh's material needs, kept in filters_; null when it needs none.
   const SurfaceFilter* surface_filter(const SceneDescription& scene, const TriangleMesh& mesh,
                                       const std::vector<Material>& materials);
+  static bool single_sided(const SceneDescription& scene, int material);
   void fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& rh, SurfaceHit* hit) const;
+  // Whether `rh`, found for `ray` without culling, is a back face a camera ray must not see.
+  bool culled_back_face(const Ray& ray, const RTCRayHit& rh) const;
+  // Rare: the nearest surface was such a back face; traces `ray` again with the culling
+  // filter on (renderer/alpha_filter.h). False when it then hits nothing.
+  bool trace_culling(const Ray& ray, RTCRayHit* rh) const;
+  // Fills `hit` from Embree's nearest hit `rh` of `ray`.
+  void resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const;
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
@@ -98,6 +134,7 @@ class EmbreeScene {
   std::vector<Instance> instances_;
   std::vector<GeometryRecord> records_;                  // by top-level geomID
   std::vector<std::unique_ptr<SurfaceFilter>> filters_;  // Embree's user data: must not move
+  BackFaceCulling culling_;
   std::vector<Sphere> spheres_;
   unsigned analytic_spheres_geom_ = RTC_INVALID_GEOMETRY_ID;
   Imath::Box3f bounds_;

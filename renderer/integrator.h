@@ -57,6 +57,10 @@ struct TileRect {
   int x0, y0, x1, y1;  // [x0, x1) x [y0, y1)
 };
 
+// The tile loop traces camera rays in packets of kPacketBlock x kPacketBlock pixels
+// (integrators/tile_loop.h); tiles are whole numbers of them (renderer/render.cpp).
+inline constexpr int kPacketBlock = 4;
+
 // A pixel's running totals over the samples taken so far, kept between passes.
 struct PixelSums {
   Imath::V3f radiance{0.0f, 0.0f, 0.0f};

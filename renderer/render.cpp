@@ -15,8 +15,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Tiles are whole numbers of the tile loop's 4 x 4 packet blocks (integrators/tile_loop.h),
+// which then start at multiples of 4 in the image whatever the tile size: which camera rays
+// share a packet, and so the image, does not depend on it.
+
 std::vector<TileRect> make_tiles(const RenderSettings& s) {
-  const int ts = std::max(1, s.tile_size);
+  const int ts = (std::max(1, s.tile_size) + kPacketBlock - 1) / kPacketBlock * kPacketBlock;
   std::vector<TileRect> tiles;
   for (int y = 0; y < s.height; y += ts)
     for (int x = 0; x < s.width; x += ts)

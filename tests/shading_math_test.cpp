@@ -1,7 +1,10 @@
 // Fresnel, refraction, the ray offset and the material mapping's energy bounds.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <numbers>
 
 #include "renderer/material.h"
@@ -25,6 +28,35 @@ TEST(Fresnel, DielectricValuesAndTotalInternalReflection) {
   // A negative cosine means the light arrives from the other side: eta is inverted.
   EXPECT_FLOAT_EQ(fresnel_dielectric(-std::cos(10.0f * kDeg), 1.5f),
                   fresnel_dielectric(std::cos(10.0f * kDeg), 1.0f / 1.5f));
+}
+
+// The inline neighbours the ray offset uses must be exactly std::nextafter's, across signs,
+// zeros, subnormals, the largest finite float and the infinities.
+TEST(NextFloat, MatchesNextafterEverywhere) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const float values[] = {0.0f,
+                          -0.0f,
+                          std::numeric_limits<float>::denorm_min(),
+                          -std::numeric_limits<float>::denorm_min(),
+                          1e-40f,
+                          -1e-40f,
+                          std::numeric_limits<float>::min(),
+                          1.0f,
+                          -1.0f,
+                          0.1f,
+                          -3.5e7f,
+                          std::numeric_limits<float>::max(),
+                          -std::numeric_limits<float>::max(),
+                          inf,
+                          -inf};
+  for (float x : values) {
+    EXPECT_EQ(std::bit_cast<uint32_t>(next_float_up(x)),
+              std::bit_cast<uint32_t>(std::nextafter(x, inf)))
+        << x;
+    EXPECT_EQ(std::bit_cast<uint32_t>(next_float_down(x)),
+              std::bit_cast<uint32_t>(std::nextafter(x, -inf)))
+        << x;
+  }
 }
 
 TEST(Refraction, FollowsSnellsLaw) {

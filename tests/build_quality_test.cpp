@@ -1,0 +1,143 @@
+// GeometryOptions::build_quality and compact, `prism render --build-quality`, and the
+// parallel construction of EmbreeScene: a BVH's quality or layout changes how fast rays find
+// their hit, never which hit, so the image must not change; nor may the thread count that
+// copied and cleaned the meshes.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <tbb/global_control.h>
+
+#include "integrators/integrators.h"
+#include "renderer/camera.h"
+#include "renderer/scene_defaults.h"
+#include "scene_io/gltf_loader.h"
+#include "tests/test_scenes.h"
+
+namespace prism {
+namespace {
+
+// Baked meshes (placed once) and instanced ones (several nodes share 14 of its meshes), 110k
+// triangles: both paths of EmbreeScene's constructor.
+const std::string kEngine =
+    std::string(PRISM_ASSIMP_GLTF2_DIR) + "/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+
+SceneDescription engine() {
+  SceneDescription scene = load_gltf(kEngine);
+  add_scene_defaults(&scene);
+  return scene;
+}
+
+testing::Rendered render_shadow(const SceneDescription& scene, const GeometryOptions& options) {
+  RenderSettings settings;
+  settings.width = 160;
+  settings.height = 120;
+  settings.spp = 1;
+  return testing::render_scene(scene, *make_integrator(IntegratorKind::shadow), settings, options);
+}
+
+// The geometry as `prism render` places it: rebased on the camera.
+GeometryOptions options_for(const SceneDescription& scene, BuildQuality quality, bool compact) {
+  GeometryOptions options;
+  options.world_origin = camera_position(scene.cameras.front());
+  options.build_quality = quality;
+  options.compact = compact;
+  return options;
+}
+
+size_t hit_pixels(const Image& image) {
+  size_t n = 0;
+  for (size_t i = 0; i < image.rgba.size(); i += 4)
+    n += image.rgba[i] > 0.0f || image.rgba[i + 1] > 0.0f || image.rgba[i + 2] > 0.0f;
+  return n;
+}
+
+TEST(BuildQuality, ParsesItsThreeNamesAndNothingElse) {
+  for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
+    BuildQuality parsed = q == BuildQuality::low ? BuildQuality::high : BuildQuality::low;
+    EXPECT_TRUE(parse_build_quality(to_string(q), &parsed)) << to_string(q);
+    EXPECT_EQ(parsed, q);
+  }
+  BuildQuality untouched = BuildQuality::medium;
+  for (const char* bad : {"", "High", "best", "high ", "2"}) {
+    EXPECT_FALSE(parse_build_quality(bad, &untouched)) << '"' << bad << '"';
+    EXPECT_EQ(untouched, BuildQuality::medium);
+  }
+}
+
+// Every quality, with and without RTC_SCENE_FLAG_COMPACT, finds the same nearest hits at the
+// pixel centres: bit-identical images (measured so on this scene and on the 1M-triangle
+// terrain, docs/benchmarks.md, "BVH build quality and flags"). With 16 samples per pixel one
+// engine pixel in 230 400 differed: two triangles at exactly the same distance, of which the
+// traversal order picks one.
+TEST(BuildQuality, EveryQualityAndLayoutGivesTheSameImage) {
+  const SceneDescription scene = engine();
+  const testing::Rendered reference =
+      render_shadow(scene, options_for(scene, BuildQuality::high, false));
+  // Not a black image that would match anything: the engine fills a good part of the frame.
+  ASSERT_GT(hit_pixels(reference.image), size_t(160 * 120 / 10));
+  for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high})
+    for (bool compact : {false, true}) {
+      const testing::Rendered r = render_shadow(scene, options_for(scene, q, compact));
+      EXPECT_TRUE(r.image.rgba == reference.image.rgba)
+          << to_string(q) << (compact ? " compact" : "");
+      EXPECT_EQ(r.result.rays.shadow, reference.result.rays.shadow) << to_string(q);
+    }
+}
+
+// The meshes are copied, baked and cleaned in parallel, then attached in the scene's order:
+// the same geomIDs, statistics and image with one thread as with two.
+TEST(BuildQuality, ParallelConstructionIsIndependentOfTheThreadCount) {
+  const SceneDescription scene = engine();
+  const GeometryOptions options = options_for(scene, BuildQuality::medium, false);
+  testing::Rendered one, two;
+  GeometryStatistics stats_one, stats_two;
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = render_shadow(scene, options);
+    stats_one = RenderScene(scene, options, colour).geometry().statistics();
+  }
+  {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = render_shadow(scene, options);
+    stats_two = RenderScene(scene, options, colour).geometry().statistics();
+  }
+  EXPECT_TRUE(one.image.rgba == two.image.rgba);
+  EXPECT_EQ(stats_one.triangles, stats_two.triangles);
+  EXPECT_EQ(stats_one.meshes_baked, stats_two.meshes_baked);
+  EXPECT_EQ(stats_one.mesh_instances, stats_two.mesh_instances);
+  EXPECT_EQ(stats_one.degenerate_triangles, stats_two.degenerate_triangles);
+  EXPECT_EQ(stats_one.normals_repaired, stats_two.normals_repaired);
+  EXPECT_GT(stats_one.meshes_baked, 0u);
+  EXPECT_GT(stats_one.mesh_instances, 0u);
+}
+
+// A value the option does not know: exit code 2, one line naming the option and the choices,
+// no image written.
+TEST(BuildQuality, CommandLineRefusesAnUnknownQualityInOneLine) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "prism_build_quality";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path image = dir / "bad.exr";
+  std::filesystem::remove(image);
+  const std::string command = std::string(PRISM_BINARY) + " render " + PRISM_SOURCE_DIR +
+                              "/scenes/spheres.gltf -o " + image.string() +
+                              " --res 32x18 --build-quality best 2>&1 >/dev/null";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string err;
+  char buffer[256];
+  while (std::fgets(buffer, sizeof buffer, pipe)) err += buffer;
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  EXPECT_EQ(err, "prism: error: --build-quality best: expected low, medium or high\n");
+  EXPECT_FALSE(std::filesystem::exists(image));
+}
+
+}  // namespace
+}  // namespace prism
