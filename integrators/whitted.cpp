@@ -17,6 +17,7 @@
 // Parameters: --max-depth, --ambient (I_a), --background.
 #include "integrators/direct.h"
 #include "integrators/integrators.h"
+#include "integrators/shadow_queue.h"
 #include "integrators/tile_loop.h"
 
 namespace prism {
@@ -35,6 +36,17 @@ template <ShadingFlags F>
 struct WhittedTracer {
   static void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                           RayCounters* counters) {
+    // The camera hits' shadow rays in packets (integrators/shadow_queue.h), then each hit's
+    // reflection and refraction, one at a time: the same sums shade() forms.
+    const auto secondary = [&](const CameraPacket& p, SampleResult* results,
+                               SurfaceResponse* surfaces, RayCounters* c) {
+      for (int i = 0; i < p.count; ++i) {
+        if (p.found[i])
+          results[i].radiance =
+              add_secondary(context, p.rays[i], p.hits[i], surfaces[i], 0, results[i].radiance, c);
+      }
+    };
+    if (render_tile_queueing_shadows<F>(context, tile, image, counters, secondary)) return;
     render_tile_shading_hits(context, tile, image, counters,
                              [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
                                return shade(context, ray, hit, 0, c);
@@ -50,9 +62,17 @@ struct WhittedTracer {
   static V3f shade(const RenderContext& context, const Ray& ray, const SurfaceHit& hit, int depth,
                    RayCounters* counters) {
     const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
-    const V3f to_viewer = -ray.direction;
-    V3f radiance = shade_direct<F>(context, hit, surface, to_viewer, counters);
+    const V3f direct = shade_direct<F>(context, hit, surface, -ray.direction, counters);
+    return add_secondary(context, ray, hit, surface, depth, direct, counters);
+  }
+
+  // `radiance` (the hit's direct light) plus what its mirror reflection and refraction
+  // bring, unless the chain is `depth` long already.
+  static V3f add_secondary(const RenderContext& context, const Ray& ray, const SurfaceHit& hit,
+                           const SurfaceResponse& surface, int depth, V3f radiance,
+                           RayCounters* counters) {
     if (depth >= context.settings.max_depth) return radiance;
+    const V3f to_viewer = -ray.direction;
 
     const V3f n = face_forward(surface.shading_normal, to_viewer);
     const V3f outside = face_forward(hit.geometric_normal, to_viewer);  // the viewer's side
