@@ -405,16 +405,18 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
       ->delimiter(',')
       ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str();
-  cmd->add_option("--target-errors", o->target_errors,
-                  "Comma-separated target errors: one adaptive render each (docs/sampling.md), "
-                  "with the largest --spp as the most samples a pixel takes")
-      ->delimiter(',')
-      ->check(kPositiveFinite);
+  CLI::Option* target_errors =
+      cmd->add_option("--target-errors", o->target_errors,
+                      "Comma-separated target errors: one adaptive render each (docs/sampling.md), "
+                      "with the largest --spp as the most samples a pixel takes")
+          ->delimiter(',')
+          ->check(kPositiveFinite);
   cmd->add_option("--min-spp", o->min_spp,
                   "Adaptive renders: samples every pixel takes before the first decision (a "
                   "power of two)")
       ->check(CLI::Range(1, 1 << 16))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(target_errors);  // alone it would change nothing
   cmd->add_option("--spheres", o->spheres,
                   "Comma-separated sphere modes: analytic, mesh[:LEVEL], embree-points")
       ->delimiter(',')
