@@ -19,11 +19,15 @@ def read_rows(path):
     rows = []
     for line in open(path):
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) < 8 or not cells[2].isdigit():
+        try:
+            spp = float(cells[2]) if len(cells) >= 8 else None
+        except ValueError:
+            spp = None
+        if spp is None:
             continue
         if cells[7] in ("reference", "-", ""):
             continue
-        rows.append({"comparison": cells[0], "renderer": cells[1], "spp": int(cells[2]),
+        rows.append({"comparison": cells[0], "renderer": cells[1], "spp": spp,
                      "seconds": float(cells[3]), "relmse": float(cells[7])})
     return rows
 
@@ -70,7 +74,7 @@ def panel(out, x0, y0, title, curves):
             x, y = fx(p["seconds"]), fy(p["relmse"])
             out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="4" fill="{colour}"/>')
             out.append(f'<text x="{x + 6:.1f}" y="{y - 6:.1f}" font-size="10" fill="{colour}">'
-                       f'{p["spp"]}</text>')
+                       f'{p["spp"]:g}</text>')
         out.append(f'<rect x="{PANEL_W - 150}" y="{10 + 18 * i}" width="12" height="12" fill="{colour}"/>')
         out.append(f'<text x="{PANEL_W - 132}" y="{20 + 18 * i}" font-size="12">{name}</text>')
     out.append("</g>")

@@ -7,7 +7,8 @@
 Needs build/apps/prism (or $PRISM), povray, blender, python3-numpy, python3-openimageio.
 
 Comparisons:
-  whitted  scenes/whitted.gltf, Prism `whitted`  vs POV-Ray 3.7 on bench/peers/whitted.pov
+  whitted  scenes/whitted.gltf, Prism `whitted` (uniform, and adaptive: --target-error
+           0.05 and 0.03, --min-spp 4) vs POV-Ray 3.7 on bench/peers/whitted.pov
   whitted  scenes/whitted.gltf, Prism `shadow` (--spheres mesh:4) vs Cycles, direct light
   engine   2CylinderEngine.glb,  Prism `shadow`  vs Cycles, direct light
 
@@ -32,6 +33,9 @@ WHITTED = os.path.join(ROOT, "scenes/whitted.gltf")
 WHITTED_POV = os.path.join(ROOT, "bench/peers/whitted.pov")
 CYCLES_SCRIPT = os.path.join(ROOT, "bench/peers/cycles_render.py")
 THREADS = 2
+ADAPTIVE = ", adaptive"  # renderer-name suffix of adaptive rows
+ADAPTIVE_TARGETS = [0.05, 0.03]
+ADAPTIVE_MIN_SPP = 4
 EPS = 1e-2  # relative MSE: (x - r)^2 / (r^2 + EPS)
 LIT = 0.02  # a pixel is "lit" when both converged renders exceed this mean RGB radiance
 
@@ -52,7 +56,12 @@ def prism(scene, out, res, spp, integrator, extra=()):
            "--res", res, "--threads", str(THREADS)] + list(extra)
     text, wall = run(cmd, out + ".log")
     render = float(re.search(r"render time\s+([0-9.]+) s", text).group(1))
-    return render, wall, cmd
+    return render, wall, cmd, text
+
+
+def mean_spp(text):
+    """The mean samples per pixel an adaptive render reports ("256 spp max, 4.411 mean")."""
+    return float(re.search(r"spp max, ([0-9.]+) mean", text).group(1))
 
 
 def povray(scene, out, res, samples_root):
@@ -122,10 +131,10 @@ def main():
     commands = []
 
     def record(key, renderer, samples, result, image):
-        render, wall, cmd = result
+        render, wall, cmd = result[:3]
         rows.setdefault(key, []).append((renderer, samples, render, wall, image))
         commands.append(" ".join(cmd))
-        print("%-28s %-22s %6s spp  render %8.3f s  wall %8.3f s" % (key, renderer, samples,
+        print("%-28s %-22s %6g spp  render %8.3f s  wall %8.3f s" % (key, renderer, samples,
                                                                    render, wall), flush=True)
 
     # 1. Whitted: Prism vs POV-Ray, 640x480.
@@ -133,6 +142,13 @@ def main():
     for spp in sorted(set(counts + [ref_spp])):
         f = o("w_prism_%d.exr" % spp)
         record(key, "Prism whitted", spp, prism(WHITTED, f, res, spp, "whitted"), f)
+    # Adaptive sampling (docs/sampling.md), capped at the reference's spp; its error is
+    # measured against the uniform Prism reference. The row's samples are its mean spp.
+    for target in ADAPTIVE_TARGETS:
+        f = o("w_prism_adaptive_%g.exr" % target)
+        result = prism(WHITTED, f, res, ref_spp, "whitted",
+                       ["--target-error", str(target), "--min-spp", str(ADAPTIVE_MIN_SPP)])
+        record(key, "Prism whitted" + ADAPTIVE, mean_spp(result[3]), result, f)
     for root in sorted(set(pov_roots + [ref_root])):
         f = o("w_pov_%d.exr" % (root * root))
         record(key, "POV-Ray 3.7", root * root, povray(WHITTED_POV, f, res, root), f)
@@ -162,14 +178,18 @@ def main():
             continue
         for renderer in dict.fromkeys(e[0] for e in entries):
             mine = [e for e in entries if e[0] == renderer]
-            ref = max(mine, key=lambda e: e[1])
-            refs[(key, renderer)] = load(ref[4])
+            if renderer.endswith(ADAPTIVE):  # against the same renderer's uniform reference
+                ref_image = refs[(key, renderer[:-len(ADAPTIVE)])]
+                ref_path = None
+            else:
+                ref_path = max(mine, key=lambda e: e[1])[4]
+                ref_image = refs[(key, renderer)] = load(ref_path)
             for _, samples, render, wall, image in mine:
-                if image == ref[4]:
+                if image == ref_path:
                     err = ("reference",) * 3
                 else:
-                    err = tuple("%.4g" % e for e in errors(load(image), refs[(key, renderer)]))
-                print("| %s | %s | %d | %.3f | %.3f | %s | %s | %s |" % (
+                    err = tuple("%.4g" % e for e in errors(load(image), ref_image))
+                print("| %s | %s | %g | %.3f | %.3f | %s | %s | %s |" % (
                     (key, renderer, samples, render, wall) + err))
 
     print()
