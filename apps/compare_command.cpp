@@ -151,7 +151,7 @@ RenderMetadata Comparison::metadata_for(const std::string& integrator, const Sph
   with_settings.settings = settings;
   return render_metadata(o_.scene, with_settings,
                          built_.scene->camera(setup_.camera(), settings.width, settings.height),
-                         integrator, spheres, result);
+                         integrator, setup_.geometry_options(spheres, /*robust=*/false), result);
 }
 
 void Comparison::save(const std::string& stem, const Image& image, const RenderMetadata* metadata,

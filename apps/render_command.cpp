@@ -124,7 +124,7 @@ int run(const RenderOptions& o) {
                  settings.time_limit_seconds, result.rounds, result.mean_spp(settings));
 
   RenderMetadata metadata =
-      render_metadata(o.scene, setup, camera, integrator->name(), geometry_options.spheres, result);
+      render_metadata(o.scene, setup, camera, integrator->name(), geometry_options, result);
   if (!pass_errors.empty()) {
     std::string rmse, relmse;
     for (const QuickError& e : pass_errors) {

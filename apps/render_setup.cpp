@@ -235,7 +235,8 @@ void check_reference_size(const Image& reference, const std::string& path,
 
 RenderMetadata render_metadata(const SceneOptions& options, const SceneSetup& setup,
                                const Camera& camera, const std::string& integrator,
-                               const SphereOptions& spheres, const RenderResult& result) {
+                               const GeometryOptions& geometry, const RenderResult& result) {
+  const SphereOptions& spheres = geometry.spheres;
   RenderMetadata metadata;
   metadata.integrator = integrator;
   metadata.spp = setup.settings.spp;
@@ -245,6 +246,8 @@ RenderMetadata render_metadata(const SceneOptions& options, const SceneSetup& se
   metadata.scene_path = options.scene_path;
   metadata.extra = {{"camera", setup.camera().name},
                     {"spheres", to_string(spheres)},
+                    {"buildQuality", to_string(geometry.build_quality)},
+                    {"robust", geometry.robust ? "1" : "0"},
                     {"maxDepth", std::to_string(setup.settings.max_depth)},
                     {"raysCamera", std::to_string(result.rays.camera)},
                     {"raysShadow", std::to_string(result.rays.shadow)},

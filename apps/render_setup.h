@@ -131,10 +131,11 @@ void check_reference_size(const Image& reference, const std::string& path,
                           const RenderSettings& settings);
 
 // What the EXR of a finished render records: integrator, spp, time, camera matrices, scene,
-// sphere mode, depth, the rays cast by kind and the scene's feature set (scene_features.h).
+// sphere mode, BVH build quality and robustness, depth, the rays cast by kind and the
+// scene's feature set (scene_features.h).
 RenderMetadata render_metadata(const SceneOptions& options, const SceneSetup& setup,
                                const Camera& camera, const std::string& integrator,
-                               const SphereOptions& spheres, const RenderResult& result);
+                               const GeometryOptions& geometry, const RenderResult& result);
 
 // Runs a command, turning what it throws into one line on stderr and an exit code: 2 for a
 // UsageError, 1 for anything else (a scene that cannot be rendered, a file not written).

@@ -23,6 +23,7 @@ done
 info=$(iinfo -v "$TMP/whitted-1.exr")
 for expected in "chromaticities: 0.64, 0.33, 0.3, 0.6, 0.15, 0.06, 0.3127, 0.329" \
   'prism:integrator: "whitted"' "prism:spp: 2" 'Software: "prism' "worldToCamera:" \
+  'prism:buildQuality: "medium"' 'prism:robust: "0"' \
   "worldToNDC:" "prism:renderSeconds:" 'prism:workingSpace: "linear-rec709"' \
   "160 x   90, 4 channel, float openexr"; do
   grep -qF "$expected" <<<"$info" || fail "EXR lacks '$expected'"
