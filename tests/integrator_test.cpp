@@ -283,6 +283,12 @@ TEST(Determinism, ImageIsBitIdenticalWithOneAndTwoThreads) {
   EXPECT_EQ(0, std::memcmp(one.image.rgba.data(), two.image.rgba.data(),
                            one.image.rgba.size() * sizeof(float)));
   EXPECT_EQ(one.result.rays.total(), two.result.rays.total());
+  // A tile size that is not a multiple of the 4 x 4 camera-ray packet is rounded up to one
+  // (renderer/render.cpp), so packets, and the image, stay the same.
+  settings.tile_size = 3;
+  const auto odd = render_scene(scene, *whitted, settings);
+  EXPECT_EQ(0, std::memcmp(one.image.rgba.data(), odd.image.rgba.data(),
+                           one.image.rgba.size() * sizeof(float)));
 }
 
 }  // namespace
