@@ -86,10 +86,11 @@ bool render_tile_queueing_shadows(const RenderContext& context, const TileRect& 
                                   RayCounters* counters, ThenFn&& then) {
   if constexpr (F.shadows) {
     if (ShadowQueue::fits(context.scene.lights().size())) {
+      // Per-tile scratch, not per packet: every lane that hit is overwritten before use.
       ShadowQueue queue;
+      SurfaceResponse surfaces[EmbreeScene::kPacketSize];
       render_tile_packets(context, tile, image, counters,
                           [&](const CameraPacket& p, SampleResult* results, RayCounters* c) {
-                            SurfaceResponse surfaces[EmbreeScene::kPacketSize];
                             shade_packet_direct<F>(context, p, &queue, results, surfaces, c);
                             then(p, results, surfaces, c);
                           });
