@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/image_metrics.h"
+#include "renderer/image/image_metrics.h"
 #include "renderer/integrator.h"
 
 namespace prism {

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "renderer/image_metrics.h"
+#include "renderer/image/image_metrics.h"
 
 namespace prism {
 namespace {

@@ -1,4 +1,4 @@
-// `prism diff`: error metrics between an image and a reference (renderer/image_metrics.h).
+// `prism diff`: error metrics between an image and a reference (renderer/image/image_metrics.h).
 #pragma once
 
 #include <string>

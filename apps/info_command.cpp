@@ -16,10 +16,10 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/render_setup.h"
-#include "renderer/embree_scene.h"
-#include "renderer/scene_defaults.h"
+#include "renderer/geometry/embree_scene.h"
+#include "scene_passes/scene_defaults.h"
 #include "renderer/scene_features.h"
-#include "renderer/sphere_geometry.h"
+#include "renderer/geometry/sphere_geometry.h"
 #include "scene_io/gltf_loader.h"
 #include "scene_io/gltf_scene_select.h"
 

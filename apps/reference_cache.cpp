@@ -10,7 +10,7 @@
 #include <OpenImageIO/hash.h>
 #include <OpenImageIO/imageio.h>
 
-#include "renderer/image_metrics.h"
+#include "renderer/image/image_metrics.h"
 #include "renderer/version.h"
 
 namespace prism {

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/render_setup.h"
-#include "renderer/image.h"
+#include "renderer/image/image.h"
 #include "renderer/integrator.h"
 
 namespace prism {

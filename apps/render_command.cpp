@@ -10,13 +10,13 @@
 
 #include "apps/progress_bar.h"
 #include "integrators/integrators.h"
-#include "renderer/colour.h"
-#include "renderer/image_metrics.h"
-#include "renderer/image_output.h"
+#include "renderer/image/colour.h"
+#include "renderer/image/image_metrics.h"
+#include "renderer/image/image_output.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
 #include "renderer/scene_features.h"
-#include "renderer/sphere_geometry.h"
+#include "renderer/geometry/sphere_geometry.h"
 
 namespace prism {
 namespace {

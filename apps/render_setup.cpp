@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "renderer/image_metrics.h"
-#include "renderer/scene_defaults.h"
+#include "renderer/image/image_metrics.h"
+#include "scene_passes/scene_defaults.h"
 #include "renderer/scene_features.h"
 #include "scene_io/gltf_loader.h"
 

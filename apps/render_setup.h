@@ -17,15 +17,15 @@
 
 #include "integrators/integrators.h"
 #include "renderer/camera.h"
-#include "renderer/colour.h"
-#include "renderer/embree_scene.h"
-#include "renderer/image.h"
-#include "renderer/image_output.h"
+#include "renderer/image/colour.h"
+#include "renderer/geometry/embree_scene.h"
+#include "renderer/image/image.h"
+#include "renderer/image/image_output.h"
 #include "renderer/integrator.h"
 #include "renderer/render.h"
 #include "renderer/scene_description.h"
-#include "renderer/sphere_detection.h"
-#include "renderer/sphere_geometry.h"
+#include "scene_passes/sphere_detection.h"
+#include "renderer/geometry/sphere_geometry.h"
 #include "scene_io/gltf_loader.h"
 
 namespace prism {

@@ -35,10 +35,10 @@
 
 #include "integrators/integrators.h"
 #include "renderer/camera.h"
-#include "renderer/colour.h"
+#include "renderer/image/colour.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
-#include "renderer/scene_defaults.h"
+#include "scene_passes/scene_defaults.h"
 #include "scene_io/gltf_loader.h"
 
 namespace prism {

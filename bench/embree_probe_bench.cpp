@@ -46,13 +46,13 @@
 
 #include "integrators/integrators.h"
 #include "renderer/camera.h"
-#include "renderer/colour.h"
-#include "renderer/embree_ray.h"
-#include "renderer/lights.h"
+#include "renderer/image/colour.h"
+#include "renderer/geometry/embree_ray.h"
+#include "renderer/shading/lights.h"
 #include "renderer/math.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
-#include "renderer/scene_defaults.h"
+#include "scene_passes/scene_defaults.h"
 #include "scene_io/gltf_loader.h"
 
 namespace prism {
@@ -85,7 +85,7 @@ struct PlacedInstance {
   Imath::M44f normal_to_world;
 };
 
-// The scene in the same two-level layout Prism uses (renderer/embree_scene.cpp: a mesh placed
+// The scene in the same two-level layout Prism uses (renderer/geometry/embree_scene.cpp: a mesh placed
 // once is baked into world space, a mesh placed by several nodes becomes one BVH with an
 // instance per node), or with `flat` every placement baked; spheres as Embree's points.
 class RawScene {

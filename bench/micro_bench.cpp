@@ -25,16 +25,16 @@
 #include "integrators/integrators.h"
 #include "integrators/local_shading.h"
 #include "renderer/camera.h"
-#include "renderer/colour.h"
-#include "renderer/embree_ray.h"
-#include "renderer/embree_scene.h"
+#include "renderer/image/colour.h"
+#include "renderer/geometry/embree_ray.h"
+#include "renderer/geometry/embree_scene.h"
 #include "renderer/math.h"
 #include "renderer/render_scene.h"
-#include "renderer/sampler.h"
-#include "renderer/scene_defaults.h"
-#include "renderer/sphere_geometry.h"
-#include "renderer/sphere_intersect.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/sampling/sampler.h"
+#include "scene_passes/scene_defaults.h"
+#include "renderer/geometry/sphere_geometry.h"
+#include "renderer/geometry/sphere_intersect.h"
+#include "renderer/geometry/sphere_mesh.h"
 #include "scene_io/gltf_loader.h"
 
 namespace prism {
@@ -226,7 +226,7 @@ void BM_OffsetRayOrigin(benchmark::State& state) {
 BENCHMARK(BM_OffsetRayOrigin);
 
 // The pixel sample every camera ray pays for when spp > 1: the Owen-scrambled Sobol point
-// (renderer/sampler.h) against the independent hash it replaced (two sample_uniform calls).
+// (renderer/sampling/sampler.h) against the independent hash it replaced (two sample_uniform calls).
 // items_per_second is 2D samples per second.
 void BM_PixelSample(benchmark::State& state) {
   const bool sobol = state.range(0) != 0;

@@ -13,7 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "renderer/camera.h"
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 #include "scene_io/gltf_loader.h"
 
 namespace prism {

@@ -39,7 +39,7 @@ for src in "$SRC"/scene_io/*.cpp; do
 done
 compile "$SRC/fuzz/gltf_loader_fuzz.cpp" "$OUT/gltf_loader_fuzz.o" -Wall -Wextra -Werror & pids+=($!)
 # The loader generates tangents for normal-mapped primitives without TANGENT.
-compile "$SRC/renderer/tangents.cpp" "$OUT/tangents.o" -Wall -Wextra -Werror & pids+=($!)
+compile "$SRC/renderer/geometry/tangents.cpp" "$OUT/tangents.o" -Wall -Wextra -Werror & pids+=($!)
 for p in "${pids[@]}"; do wait "$p"; done
 
 # libdraco (KHR_draco_mesh_compression), OpenImageIO (images) and TBB (their parallel

@@ -11,7 +11,7 @@
 #include <cmath>
 
 #include "renderer/integrator.h"
-#include "renderer/material.h"
+#include "renderer/shading/material.h"
 #include "renderer/math.h"
 
 namespace prism {

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdint>
 
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 #include "renderer/integrator.h"
-#include "renderer/sampler.h"
+#include "renderer/sampling/sampler.h"
 
 namespace prism {
 
@@ -100,7 +100,7 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
         for (int i = 0; i < count; ++i) {
           // One sample goes through the pixel centre (the lecture's view ray); more are
           // spread over the pixel (a box filter) by the pixel's Owen-scrambled Sobol points,
-          // which stratify where independent jitter clumps (renderer/sampler.h). Sample s
+          // which stratify where independent jitter clumps (renderer/sampling/sampler.h). Sample s
           // depends only on (pixel, s).
           const PixelSample2D j =
               spp == 1 ? PixelSample2D{0.5f, 0.5f}

@@ -4,7 +4,7 @@
 
 #include <Imath/ImathMatrix.h>
 
-#include "renderer/ray.h"
+#include "renderer/geometry/ray.h"
 #include "renderer/scene_description.h"
 
 namespace prism {

@@ -8,7 +8,7 @@
 #include <Imath/ImathVec.h>
 
 #include "renderer/camera.h"
-#include "renderer/image.h"
+#include "renderer/image/image.h"
 #include "renderer/render_scene.h"
 
 namespace prism {
@@ -44,7 +44,7 @@ struct RenderSettings {
   bool specialise = true;
   Imath::V3f ambient{0.0f, 0.0f, 0.0f};     // I_a: uniform ambient radiance
   Imath::V3f background{0.0f, 0.0f, 0.0f};  // radiance of rays that leave the scene
-  // Adaptive sampling (renderer/adaptive_sampling.h, docs/sampling.md). With neither set,
+  // Adaptive sampling (renderer/sampling/adaptive_sampling.h, docs/sampling.md). With neither set,
   // every pixel takes exactly `spp` samples, as it always did; with either, `spp` is the
   // most a pixel takes and samples are taken in rounds.
   float target_error = 0.0f;        // a pixel stops once its relative error is below; 0 = off
@@ -75,7 +75,7 @@ struct PixelSums {
 // Adaptive rounds also pass `active` (pixels outside it are left alone: their sums and image
 // pixels keep what earlier rounds wrote) and `first_half`, where each pixel keeps the sums of
 // its first 2^k samples, 2^k the largest power of two below the samples it has taken: the
-// error estimate compares those with the rest (renderer/adaptive_sampling.h).
+// error estimate compares those with the rest (renderer/sampling/adaptive_sampling.h).
 struct SamplePass {
   int first = 0;
   int end = -1;                     // exclusive; -1 = settings.spp

@@ -8,7 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "renderer/adaptive_sampling.h"
+#include "renderer/sampling/adaptive_sampling.h"
 
 namespace prism {
 namespace {

@@ -37,7 +37,7 @@ using PassCallback = std::function<void(int samples_done, const Image& image)>;
 // The final image is bit-identical to a single-pass render: each pixel adds the same samples
 // in the same order and divides once at the end.
 //
-// When settings.adaptive(), samples are taken in rounds (renderer/adaptive_sampling.h):
+// When settings.adaptive(), samples are taken in rounds (renderer/sampling/adaptive_sampling.h):
 // after each, pixels whose neighbourhood has converged below settings.target_error stop, and
 // once settings.time_limit_seconds has passed no new round starts. `after_pass` then sees the
 // image after each round, with the most samples any pixel has taken; `progress` counts tiles

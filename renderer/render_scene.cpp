@@ -1,6 +1,6 @@
 #include "renderer/render_scene.h"
 
-#include "renderer/colour.h"
+#include "renderer/image/colour.h"
 
 namespace prism {
 namespace {

@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "renderer/camera.h"
-#include "renderer/embree_scene.h"
-#include "renderer/lights.h"
-#include "renderer/material.h"
+#include "renderer/geometry/embree_scene.h"
+#include "renderer/shading/lights.h"
+#include "renderer/shading/material.h"
 #include "renderer/scene_features.h"
-#include "renderer/texture.h"
+#include "renderer/shading/texture.h"
 
 namespace prism {
 
@@ -41,7 +41,7 @@ class RenderScene {
 
  private:
   // In this order: materials point into textures_, the geometry's alpha filters into
-  // materials_ (renderer/alpha_filter.h).
+  // materials_ (renderer/geometry/alpha_filter.h).
   std::vector<Texture> textures_;
   std::vector<Material> materials_;
   Material default_material_;

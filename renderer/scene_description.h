@@ -62,10 +62,10 @@ struct TextureMapping {
 
 // glTF's alphaMode. OPAQUE ignores alpha; MASK keeps a surface point where its alpha is at
 // least alpha_cutoff and removes it elsewhere; BLEND makes it partly transparent (alpha is
-// the fraction of light it stops). renderer/alpha_filter.h implements both for every ray.
+// the fraction of light it stops). renderer/geometry/alpha_filter.h implements both for every ray.
 enum class AlphaMode { opaque, mask, blend };
 
-// glTF metallic-roughness material, unmapped. renderer/material.h maps it onto the
+// glTF metallic-roughness material, unmapped. renderer/shading/material.h maps it onto the
 // lecture's ambient + Lambert + Phong + mirror + refraction model (see docs/materials.md).
 struct MaterialDescription {
   std::string name;

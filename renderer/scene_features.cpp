@@ -6,7 +6,7 @@
 #include <Imath/ImathBox.h>
 
 #include "renderer/camera.h"
-#include "renderer/material.h"
+#include "renderer/shading/material.h"
 
 namespace prism {
 namespace {

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "renderer/scene_description.h"
-#include "renderer/sphere_geometry.h"
+#include "renderer/geometry/sphere_geometry.h"
 
 namespace prism {
 
@@ -71,7 +71,7 @@ struct SceneFeatures {
   // Some used material has a non-zero emissive factor.
   bool emission = false;
   // Some mesh primitive's material has alphaMode MASK, or BLEND: its triangles carry alpha
-  // filters, for every kind of ray (renderer/alpha_filter.h). Spheres ignore alpha.
+  // filters, for every kind of ray (renderer/geometry/alpha_filter.h). Spheres ignore alpha.
   bool alpha_mask = false;
   bool alpha_blend = false;
   // A shadow ray can be blocked somewhere (rule in scene_features.cpp and docs/info.md).

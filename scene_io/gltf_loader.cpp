@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "renderer/math.h"
-#include "renderer/tangents.h"
+#include "renderer/geometry/tangents.h"
 #include "scene_io/gltf_accessors.h"
 #include "scene_io/gltf_attributes.h"
 #include "scene_io/gltf_draco.h"
@@ -791,7 +791,7 @@ class Converter {
   }
 
   // A normal-mapped primitive without TANGENT gets MikkTSpace-style tangents from the UVs
-  // its normal map reads (renderer/tangents.h); without those UVs the map cannot be placed.
+  // its normal map reads (renderer/geometry/tangents.h); without those UVs the map cannot be placed.
   void generate_missing_tangents(Primitive& p, const std::string& element) {
     if (!p.tangents.empty() || p.material < 0) return;
     const MaterialDescription& m = out_.materials.at(std::size_t(p.material));

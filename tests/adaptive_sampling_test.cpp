@@ -1,4 +1,4 @@
-// Adaptive sampling (renderer/adaptive_sampling.h): where samples go, the error promised by
+// Adaptive sampling (renderer/sampling/adaptive_sampling.h): where samples go, the error promised by
 // --target-error, determinism, and that a render without it is the uniform one.
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "integrators/integrators.h"
-#include "renderer/adaptive_sampling.h"
-#include "renderer/image_metrics.h"
+#include "renderer/sampling/adaptive_sampling.h"
+#include "renderer/image/image_metrics.h"
 #include "tests/test_scenes.h"
 
 namespace prism {

@@ -1,4 +1,4 @@
-// glTF alpha modes (OPAQUE, MASK, BLEND) and doubleSided, as renderer/alpha_filter.h
+// glTF alpha modes (OPAQUE, MASK, BLEND) and doubleSided, as renderer/geometry/alpha_filter.h
 // implements them: for camera, secondary and shadow rays alike, on baked and instanced
 // meshes, with answers counted against the analytic area or the blended value.
 #include <gtest/gtest.h>
@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "integrators/integrators.h"
-#include "renderer/alpha_filter.h"
-#include "renderer/colour.h"
-#include "renderer/embree_scene.h"
-#include "renderer/material.h"
+#include "renderer/geometry/alpha_filter.h"
+#include "renderer/image/colour.h"
+#include "renderer/geometry/embree_scene.h"
+#include "renderer/shading/material.h"
 #include "renderer/scene_features.h"
-#include "renderer/texture.h"
+#include "renderer/shading/texture.h"
 #include "scene_io/gltf_loader.h"
 #include "tests/gltf_test_builder.h"
 #include "tests/test_scenes.h"

@@ -9,7 +9,7 @@
 
 #include "integrators/integrators.h"
 #include "renderer/math.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_mesh.h"
 #include "scene_io/gltf_loader.h"
 #include "tests/test_scenes.h"
 
@@ -76,7 +76,7 @@ TEST(AnalyticReference, FurnaceIsExactlyOneHalfInEverySphereMode) {
 // over each pixel. The bound is the one for independent samples (each silhouette pixel's
 // coverage a mean of spp Bernoulli trials, so the error's standard deviation is at most
 // sqrt(boundary pixels / (4 spp))); the stratified Owen-scrambled Sobol samples the renderer
-// uses (renderer/sampler.h) can only do better, which tests/sampler_test.cpp measures.
+// uses (renderer/sampling/sampler.h) can only do better, which tests/sampler_test.cpp measures.
 TEST(AnalyticReference, DiscAreaConvergesToPiRSquared) {
   SceneDescription scene;
   scene.materials.push_back(testing::lambert_like(0.5f));

@@ -14,7 +14,7 @@
 
 #include "integrators/integrators.h"
 #include "renderer/camera.h"
-#include "renderer/scene_defaults.h"
+#include "scene_passes/scene_defaults.h"
 #include "scene_io/gltf_loader.h"
 #include "tests/test_scenes.h"
 

@@ -1,8 +1,8 @@
 // The Embree scene: baking versus instancing, mirrored transforms, and what a hit reports.
 #include <gtest/gtest.h>
 
-#include "renderer/embree_scene.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/embree_scene.h"
+#include "renderer/geometry/sphere_mesh.h"
 
 namespace prism {
 namespace {

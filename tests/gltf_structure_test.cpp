@@ -13,7 +13,7 @@
 
 #include <Imath/ImathBox.h>
 
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 #include "scene_io/gltf_loader.h"
 #include "scene_io/gltf_specular_glossiness.h"
 #include "tests/gltf_test_builder.h"

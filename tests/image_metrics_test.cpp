@@ -1,5 +1,5 @@
 // Error metrics against hand-computed values, the EXR reader, and rendering in passes.
-#include "renderer/image_metrics.h"
+#include "renderer/image/image_metrics.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

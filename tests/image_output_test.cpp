@@ -1,4 +1,4 @@
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

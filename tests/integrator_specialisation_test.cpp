@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "integrators/integrators.h"
-#include "renderer/scene_defaults.h"
+#include "scene_passes/scene_defaults.h"
 #include "renderer/scene_features.h"
 #include "tests/test_scenes.h"
 

@@ -7,7 +7,7 @@
 #include <numbers>
 
 #include "integrators/integrators.h"
-#include "renderer/material.h"
+#include "renderer/shading/material.h"
 #include "tests/test_scenes.h"
 
 namespace prism {

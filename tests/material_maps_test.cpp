@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "integrators/integrators.h"
-#include "renderer/material.h"
-#include "renderer/tangents.h"
+#include "renderer/shading/material.h"
+#include "renderer/geometry/tangents.h"
 #include "tests/test_scenes.h"
 
 namespace prism {

@@ -15,8 +15,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "renderer/embree_scene.h"
-#include "renderer/ray.h"
+#include "renderer/geometry/embree_scene.h"
+#include "renderer/geometry/ray.h"
 #include "scene_io/gltf_loader.h"
 #include "tests/test_scenes.h"
 

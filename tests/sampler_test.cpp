@@ -1,4 +1,4 @@
-// The pixel sampler (renderer/sampler.h): the Sobol points are a (0,2)-sequence, the Owen
+// The pixel sampler (renderer/sampling/sampler.h): the Sobol points are a (0,2)-sequence, the Owen
 // scramble keeps that and decorrelates pixels, samples are pure functions of (pixel,
 // sample), and edge coverage is measurably more accurate than with independent samples.
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "integrators/integrators.h"
-#include "renderer/sampler.h"
+#include "renderer/sampling/sampler.h"
 #include "tests/test_scenes.h"
 
 namespace prism {

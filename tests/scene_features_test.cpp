@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "integrators/integrators.h"
-#include "renderer/scene_defaults.h"
+#include "scene_passes/scene_defaults.h"
 #include "renderer/scene_features.h"
 #include "scene_io/gltf_loader.h"
 #include "tests/test_scenes.h"

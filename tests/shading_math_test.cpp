@@ -7,7 +7,7 @@
 #include <limits>
 #include <numbers>
 
-#include "renderer/material.h"
+#include "renderer/shading/material.h"
 #include "renderer/math.h"
 
 namespace prism {

@@ -1,4 +1,4 @@
-// Sphere-shaped meshes (renderer/sphere_detection.h): tessellated spheres are found with their
+// Sphere-shaped meshes (scene_passes/sphere_detection.h): tessellated spheres are found with their
 // centre and radius, shapes that are not spheres (or not whole ones) are not, and replacing
 // one keeps its material.
 //
@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "renderer/sphere_detection.h"
-#include "renderer/sphere_mesh.h"
+#include "scene_passes/sphere_detection.h"
+#include "renderer/geometry/sphere_mesh.h"
 
 namespace prism {
 namespace {

@@ -18,9 +18,9 @@
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
-#include "renderer/sphere_geometry.h"
-#include "renderer/sphere_intersect.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_geometry.h"
+#include "renderer/geometry/sphere_intersect.h"
+#include "renderer/geometry/sphere_mesh.h"
 
 namespace prism {
 namespace {

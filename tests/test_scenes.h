@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "renderer/colour.h"
+#include "renderer/image/colour.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
 #include "renderer/scene_description.h"

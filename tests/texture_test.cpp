@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "renderer/colour.h"
-#include "renderer/texture.h"
+#include "renderer/image/colour.h"
+#include "renderer/shading/texture.h"
 
 namespace prism {
 namespace {

@@ -12,7 +12,7 @@ What it sets up, so that Cycles sees what Prism's `shadow` integrator sees:
 - punctual lights made point-like: the importer leaves Blender's default radius
   (shadow_soft_size 0.25 m), which would make them sphere lights with soft shadows;
 - without lights, the same default directional key light Prism adds (pi W/m^2 along the
-  camera's forward - 0.6 up + 0.4 right, renderer/scene_defaults.cpp);
+  camera's forward - 0.6 up + 0.4 right, scene_passes/scene_defaults.cpp);
 - the glTF scene's first camera, the given resolution, a 1-pixel box filter (Prism's
   samples are uniform in the pixel square), fixed samples (no adaptive sampling, no
   denoising), max_bounces = 0 (camera ray + light samples only: direct light);

@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 
 namespace prism {
 namespace {

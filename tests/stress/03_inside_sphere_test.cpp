@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 #include "renderer/math.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_mesh.h"
 
 namespace prism {
 namespace {

@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 #include "renderer/math.h"
 
 namespace prism {

@@ -9,7 +9,7 @@
 #include <cstdio>
 
 #include "integrators/integrators.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
 
 namespace prism {

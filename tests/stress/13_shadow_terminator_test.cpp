@@ -11,7 +11,7 @@
 
 #include "integrators/integrators.h"
 #include "renderer/math.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
 
 namespace prism {

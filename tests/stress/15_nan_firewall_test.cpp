@@ -105,7 +105,7 @@ TEST(Stress15NanFirewall, NonFiniteLightSamplesAreDiscardedAndCounted) {
 }
 
 // NaN shading normals on every vertex. The hit code falls back to the geometric normal
-// (renderer/embree_scene.cpp), so nothing reaches the firewall: no discards, and the image
+// (renderer/geometry/embree_scene.cpp), so nothing reaches the firewall: no discards, and the image
 // is the flat floor's. With an infinite sun as well, the discards are exactly the floor hits.
 TEST(Stress15NanFirewall, NanShadingNormalsNeverReachThePixels) {
   const RenderSettings settings = small_settings();

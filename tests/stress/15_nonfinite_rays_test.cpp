@@ -1,5 +1,5 @@
 // Stress case 15 (guard): rays with a non-finite origin, direction or range never reach
-// Embree (renderer/embree_scene.cpp, ray_is_valid). intersect() reports no hit, so the
+// Embree (renderer/geometry/embree_scene.cpp, ray_is_valid). intersect() reports no hit, so the
 // sample sees the background; occluded() reports blocked, so a broken shadow ray can darken
 // a point but never light it. (The tile loop's sample firewall is case 15's other half,
 // 15_nan_firewall_test.cpp.)
@@ -7,7 +7,7 @@
 
 #include <limits>
 
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 
 namespace prism {
 namespace {

@@ -1,4 +1,4 @@
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_mesh.h"
 
 #include <algorithm>
 #include <array>

@@ -1,10 +1,10 @@
-#include "renderer/lights.h"
+#include "renderer/shading/lights.h"
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 
-#include "renderer/colour.h"
+#include "renderer/image/colour.h"
 #include "renderer/math.h"
 
 namespace prism {

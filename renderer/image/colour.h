@@ -6,7 +6,7 @@
 // its chromaticities) and, for previews, through the config's display/view transform.
 //
 // The config is the one named by $OCIO, as OCIO's own tools do, or else the small config
-// shipped in renderer/ocio/config.ocio, compiled into the binary so that an installed prism
+// shipped in renderer/image/ocio/config.ocio, compiled into the binary so that an installed prism
 // never looks for it on disk.
 #pragma once
 
@@ -14,7 +14,7 @@
 #include <memory>
 #include <string>
 
-#include "renderer/image.h"
+#include "renderer/image/image.h"
 #include "renderer/scene_description.h"
 
 namespace prism {

@@ -1,10 +1,10 @@
 // Prism's Ray as Embree's ray structures, for everything that calls rtcIntersect and
-// rtcOccluded (renderer/embree_scene.cpp, and the benchmarks that trace the same rays).
+// rtcOccluded (renderer/geometry/embree_scene.cpp, and the benchmarks that trace the same rays).
 #pragma once
 
 #include <embree3/rtcore.h>
 
-#include "renderer/ray.h"
+#include "renderer/geometry/ray.h"
 
 namespace prism {
 

@@ -10,8 +10,8 @@
 #include <Imath/ImathVec.h>
 
 #include "renderer/scene_description.h"
-#include "renderer/surface_hit.h"
-#include "renderer/texture.h"
+#include "renderer/geometry/surface_hit.h"
+#include "renderer/shading/texture.h"
 
 namespace prism {
 

@@ -1,9 +1,9 @@
-#include "renderer/material.h"
+#include "renderer/shading/material.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/colour.h"
+#include "renderer/image/colour.h"
 #include "renderer/math.h"
 
 namespace prism {

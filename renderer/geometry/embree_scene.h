@@ -24,11 +24,11 @@
 #include <Imath/ImathVec.h>
 #include <embree3/rtcore.h>
 
-#include "renderer/alpha_filter.h"
-#include "renderer/ray.h"
+#include "renderer/geometry/alpha_filter.h"
+#include "renderer/geometry/ray.h"
 #include "renderer/scene_description.h"
-#include "renderer/sphere_geometry.h"
-#include "renderer/surface_hit.h"
+#include "renderer/geometry/sphere_geometry.h"
+#include "renderer/geometry/surface_hit.h"
 
 namespace prism {
 
@@ -73,7 +73,7 @@ class EmbreeScene {
   // Throws std::runtime_error if Embree fails (with Embree's message). `materials` are the
   // scene's materials resolved (RenderScene's, one per SceneDescription::materials entry),
   // whose base colour alpha the filters of MASK and BLEND materials read
-  // (renderer/alpha_filter.h); they must outlive this scene. Without them only the alpha
+  // (renderer/geometry/alpha_filter.h); they must outlive this scene. Without them only the alpha
   // factor counts.
   EmbreeScene(const SceneDescription& scene, const GeometryOptions& options,
               const std::vector<Material>& materials = {});
@@ -122,7 +122,7 @@ class EmbreeScene {
   // Whether `rh`, found for `ray` without culling, is a back face a camera ray must not see.
   bool culled_back_face(const Ray& ray, const RTCRayHit& rh) const;
   // Rare: the nearest surface was such a back face; traces `ray` again with the culling
-  // filter on (renderer/alpha_filter.h). False when it then hits nothing.
+  // filter on (renderer/geometry/alpha_filter.h). False when it then hits nothing.
   bool trace_culling(const Ray& ray, RTCRayHit* rh) const;
   // Fills `hit` from Embree's nearest hit `rh` of `ray`.
   void resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const;

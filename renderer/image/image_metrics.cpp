@@ -1,4 +1,4 @@
-#include "renderer/image_metrics.h"
+#include "renderer/image/image_metrics.h"
 
 #include <OpenImageIO/imageio.h>
 

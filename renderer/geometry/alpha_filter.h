@@ -33,10 +33,10 @@
 #include <Imath/ImathVec.h>
 #include <embree3/rtcore.h>
 
-#include "renderer/material.h"
-#include "renderer/ray.h"
+#include "renderer/shading/material.h"
+#include "renderer/geometry/ray.h"
 #include "renderer/scene_description.h"
-#include "renderer/surface_hit.h"
+#include "renderer/geometry/surface_hit.h"
 
 namespace prism {
 
@@ -83,7 +83,7 @@ void cull_camera_back_faces(const RTCFilterFunctionNArguments* args);
 struct SurfaceFilter {
   AlphaMode mode = AlphaMode::opaque;
   float cutoff = 0.5f;
-  // The alpha is base_colour_alpha(*material, hit) (renderer/material.h: the factor, the
+  // The alpha is base_colour_alpha(*material, hit) (renderer/shading/material.h: the factor, the
   // base colour texture through its texCoord and transform, COLOR_0), the same as the
   // shading reads; alpha_factor alone when there is no resolved material.
   const Material* material = nullptr;

@@ -12,7 +12,7 @@ struct Ray {
   float tnear = 0.0f;
   float tfar = std::numeric_limits<float>::infinity();
   // Made by Camera::generate_ray: it does not see back faces of single-sided materials
-  // (renderer/alpha_filter.h). Secondary and shadow rays see both sides.
+  // (renderer/geometry/alpha_filter.h). Secondary and shadow rays see both sides.
   bool from_camera = false;
   // The cone of directions the ray stands for (the pixel it samples), for texture
   // filtering: its width across the ray at distance t is cone_width + cone_spread * t.

@@ -1,4 +1,4 @@
-#include "renderer/scene_defaults.h"
+#include "scene_passes/scene_defaults.h"
 
 #include <cmath>
 #include <numbers>

@@ -1,4 +1,4 @@
-#include "renderer/tangents.h"
+#include "renderer/geometry/tangents.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "renderer/sphere_detection.h"
+#include "scene_passes/sphere_detection.h"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "renderer/adaptive_sampling.h"
+#include "renderer/sampling/adaptive_sampling.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
-#include "renderer/alpha_filter.h"
+#include "renderer/geometry/alpha_filter.h"
 
 #include <bit>
 
-#include "renderer/random.h"
+#include "renderer/sampling/random.h"
 
 namespace prism {
 namespace {

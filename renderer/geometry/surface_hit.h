@@ -1,5 +1,5 @@
 // What an integrator knows about a ray's nearest hit. EmbreeScene fills it; the material
-// (renderer/material.h) reads the surface attributes from it.
+// (renderer/shading/material.h) reads the surface attributes from it.
 #pragma once
 
 #include <cstdint>

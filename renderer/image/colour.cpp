@@ -1,4 +1,4 @@
-#include "renderer/colour.h"
+#include "renderer/image/colour.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 

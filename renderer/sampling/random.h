@@ -3,7 +3,7 @@
 // Each (pixel, sample, dimension) draws from a hash of those integers instead of a stream
 // shared by a thread, so the image does not depend on how tiles are scheduled or on the
 // thread count: the same options give bit-identical images. Pixel positions use the
-// low-discrepancy points of renderer/sampler.h instead; these independent numbers are for
+// low-discrepancy points of renderer/sampling/sampler.h instead; these independent numbers are for
 // dimensions that have no stratified sequence (and the sampler's scramble hashes).
 #pragma once
 

@@ -1,4 +1,4 @@
-#include "renderer/texture.h"
+#include "renderer/shading/texture.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "renderer/colour.h"
+#include "renderer/image/colour.h"
 
 namespace prism {
 

@@ -19,7 +19,7 @@
 
 #include <cstdint>
 
-#include "renderer/random.h"
+#include "renderer/sampling/random.h"
 
 namespace prism {
 

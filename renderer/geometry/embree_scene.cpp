@@ -1,4 +1,4 @@
-#include "renderer/embree_scene.h"
+#include "renderer/geometry/embree_scene.h"
 
 #include <algorithm>
 #include <atomic>
@@ -9,9 +9,9 @@
 
 #include <tbb/parallel_for.h>
 
-#include "renderer/embree_ray.h"
+#include "renderer/geometry/embree_ray.h"
 #include "renderer/math.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_mesh.h"
 
 namespace prism {
 
@@ -308,7 +308,7 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
   if (!device_) throw std::runtime_error("cannot create the Embree device");
   rtcSetDeviceErrorFunction(device_, report_embree_error, &error);
   // Only a scene with a single-sided mesh needs the culling trace's context filter
-  // (renderer/alpha_filter.h); the flag is set on every scene, instanced ones too, since
+  // (renderer/geometry/alpha_filter.h); the flag is set on every scene, instanced ones too, since
   // Embree reads it from the scene being traversed.
   for (const MeshInstance& inst : scene.instances) {
     if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;

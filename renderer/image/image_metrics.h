@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <string>
 
-#include "renderer/image.h"
+#include "renderer/image/image.h"
 
 namespace prism {
 

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "renderer/colour.h"
-#include "renderer/image.h"
+#include "renderer/image/colour.h"
+#include "renderer/image/image.h"
 #include "renderer/scene_description.h"
 
 namespace prism {

@@ -1,4 +1,4 @@
-#include "renderer/sphere_geometry.h"
+#include "renderer/geometry/sphere_geometry.h"
 
 #include <algorithm>
 #include <charconv>
@@ -6,8 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "renderer/sphere_intersect.h"
-#include "renderer/sphere_mesh.h"
+#include "renderer/geometry/sphere_intersect.h"
+#include "renderer/geometry/sphere_mesh.h"
 
 namespace prism {
 
