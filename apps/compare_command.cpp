@@ -17,22 +17,15 @@
 #include "apps/compare_plot.h"
 #include "apps/compare_report.h"
 #include "apps/reference_cache.h"
-#include "integrators/integrators.h"
 #include "renderer/image/image_metrics.h"
 #include "renderer/image/image_output.h"
-#include "renderer/render.h"
-#include "renderer/render_scene.h"
 #include "renderer/version.h"
+#include "session/session.h"
 
 namespace prism {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // The process's peak resident set so far (Linux reports ru_maxrss in KiB). A high-water
 // mark: it never goes down, so a row shows the most the process has needed up to then.
@@ -74,95 +67,75 @@ void check_report_dir(const std::string& dir) {
     throw UsageError("-o " + dir + ": directory " + parent.string() + " does not exist");
 }
 
-// One RenderScene at a time, built when first asked for and timed.
-struct BuiltScene {
-  std::string spheres;  // to_string of the sphere options it was built with
-  std::unique_ptr<RenderScene> scene;
-  double bvh_seconds = 0.0;
-};
-
 class Comparison {
  public:
-  Comparison(const CompareOptions& o, SceneSetup& setup, const ColourPipeline& colour)
-      : o_(o), setup_(setup), colour_(colour) {}
+  Comparison(const CompareOptions& o, Session& session, const RenderJob& base)
+      : o_(o), session_(session), base_(base) {}
 
-  CompareReport run(const std::vector<IntegratorKind>& integrators,
+  CompareReport run(const std::vector<const IntegratorInfo*>& integrators,
                     const std::vector<SphereOptions>& modes, const RecordedRender* file_reference);
 
  private:
-  const BuiltScene& scene_for(const SphereOptions& spheres);
+  // The job of one row: the integrator (with those of the command line's parameters it
+  // takes), the sphere mode and the samples, uniform or, with a target error, adaptive with
+  // `spp` the cap.
+  RenderJob job_for(const IntegratorInfo& integrator, const SphereOptions& spheres, int spp,
+                    std::optional<double> target_error = std::nullopt) const;
   // Renders once untimed (so first-touch page faults and cold caches stay out), then again
-  // timed; both with `settings`.
-  RenderResult render_timed(const Integrator& integrator, const BuiltScene& built,
-                            const RenderSettings& settings, int warm_up_spp, Image* image) const;
-  // The scene's settings at `spp`, uniform or, with a target error, adaptive with `spp` the cap.
-  RenderSettings settings_for(int spp, std::optional<double> target_error = std::nullopt) const;
-  // What the EXR of a render with the scene built now records.
-  RenderMetadata metadata_for(const std::string& integrator, const SphereOptions& spheres,
-                              const RenderResult& result, const RenderSettings& settings) const;
+  // timed; the BVH is built before either and its build time returned in `bvh_seconds`.
+  RenderOutput render_timed(const RenderJob& job, int warm_up_spp,
+                            std::optional<double>* bvh_seconds);
   // Writes images/<stem>.exr (with `metadata`, or else as a copy of the file `copy_of`) and
   // its PNG preview, and points the row at the PNG.
   void save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
-            const std::string& copy_of, CompareRow* row) const;
+            const std::string& copy_of, WorkingSpace space, CompareRow* row);
   void progress(const std::string& what);
 
   const CompareOptions& o_;
-  SceneSetup& setup_;
-  const ColourPipeline& colour_;
-  BuiltScene built_;
+  Session& session_;
+  const RenderJob& base_;
+  double bvh_seconds_ = 0.0;  // of the render scene built last
   int done_ = 0, total_ = 0;
 };
 
-const BuiltScene& Comparison::scene_for(const SphereOptions& spheres) {
-  if (built_.scene && built_.spheres == to_string(spheres)) return built_;
-  built_.scene.reset();  // free the last one first: two BVHs at once would inflate peak RSS
-  const auto start = Clock::now();
-  built_.scene = std::make_unique<RenderScene>(
-      setup_.scene, setup_.geometry_options(spheres, /*robust=*/false), colour_);
-  built_.bvh_seconds = seconds_since(start);
-  built_.spheres = to_string(spheres);
-  return built_;
-}
-
-RenderResult Comparison::render_timed(const Integrator& integrator, const BuiltScene& built,
-                                      const RenderSettings& settings, int warm_up_spp,
-                                      Image* image) const {
-  const Camera camera = built.scene->camera(setup_.camera(), settings.width, settings.height);
-  RenderSettings warm_up = settings;
-  warm_up.spp = warm_up_spp;
-  render(integrator, RenderContext{*built.scene, camera, warm_up}, image);
-  return render(integrator, RenderContext{*built.scene, camera, settings}, image);
-}
-
-RenderSettings Comparison::settings_for(int spp, std::optional<double> target_error) const {
-  RenderSettings settings = setup_.settings;
-  settings.spp = spp;
+RenderJob Comparison::job_for(const IntegratorInfo& integrator, const SphereOptions& spheres,
+                              int spp, std::optional<double> target_error) const {
+  RenderJob job = base_;
+  job.integrator = integrator.name;
+  job.integrator_parameters.clear();
+  for (const auto& [name, value] : base_.integrator_parameters)
+    if (takes_parameter(integrator, name)) job.integrator_parameters[name] = value;
+  job.spheres = spheres;
+  job.film.spp = spp;
   if (target_error) {
-    settings.target_error = static_cast<float>(*target_error);
-    settings.min_spp = o_.min_spp;
+    job.film.target_error = static_cast<float>(*target_error);
+    job.film.min_spp = o_.min_spp;
   }
-  return settings;
+  return job;
 }
 
-RenderMetadata Comparison::metadata_for(const std::string& integrator, const SphereOptions& spheres,
-                                        const RenderResult& result,
-                                        const RenderSettings& settings) const {
-  SceneSetup with_settings = setup_;
-  with_settings.settings = settings;
-  return render_metadata(o_.scene, with_settings,
-                         built_.scene->camera(setup_.camera(), settings.width, settings.height),
-                         integrator, setup_.geometry_options(spheres, /*robust=*/false), result);
+RenderOutput Comparison::render_timed(const RenderJob& job, int warm_up_spp,
+                                      std::optional<double>* bvh_seconds) {
+  double built = 0.0;
+  session_.render_scene(job, &built);
+  if (built > 0.0) bvh_seconds_ = built;
+  *bvh_seconds = bvh_seconds_;
+  RenderJob warm_up = job;
+  warm_up.film.spp = warm_up_spp;
+  session_.render(warm_up);
+  return session_.render(job);
 }
 
 void Comparison::save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
-                      const std::string& copy_of, CompareRow* row) const {
+                      const std::string& copy_of, WorkingSpace space, CompareRow* row) {
+  const ColourPipeline& colour = session_.colour(space);
   const fs::path images = fs::path(o_.report_dir) / "images";
   const std::string exr = (images / (stem + ".exr")).string();
   if (metadata)
-    write_exr(exr, image, colour_, *metadata, ExrPixelType::float32);
+    write_exr(exr, image, colour, *metadata, ExrPixelType::float32);
   else
     fs::copy_file(copy_of, exr, fs::copy_options::overwrite_existing);
-  write_png_preview((images / (stem + ".png")).string(), image, colour_);
+  write_png_preview((images / (stem + ".png")).string(), image, colour);
   row->image = "images/" + stem + ".png";
 }
 
@@ -172,43 +145,49 @@ void Comparison::progress(const std::string& what) {
     std::fprintf(stderr, "\rprism: compare %d/%d: %s\033[K", done_, total_, what.c_str());
 }
 
-CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
+CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrators,
                               const std::vector<SphereOptions>& modes,
                               const RecordedRender* file_reference) {
   CompareReport report;
-  const RenderSettings& s = setup_.settings;
+  const RenderSettings film = session_.film(base_);
+  const int camera = session_.camera_index(base_.camera);
   report.scene = o_.scene.scene_path;
-  report.width = s.width;
-  report.height = s.height;
-  report.camera = setup_.camera().name;
-  report.working_space = to_string(setup_.working_space);
-  report.max_depth = s.max_depth;
+  report.width = film.width;
+  report.height = film.height;
+  report.camera = session_.scene().cameras[static_cast<size_t>(camera)].name;
+  report.working_space = to_string(base_.working_space);
+  const auto depth = base_.integrator_parameters.find("max-depth");
+  report.max_depth =
+      depth != base_.integrator_parameters.end() ? static_cast<int>(depth->second) : 5;
   report.min_spp = o_.min_spp;
   report.plot_metric = o_.plot_metric;
   const size_t runs = o_.spp.size() + o_.target_errors.size();
   total_ = static_cast<int>(integrators.size() * (modes.size() * runs + 1));
 
   // References first: every other row is measured against one.
-  std::map<IntegratorKind, Image> references;
+  std::map<std::string, Image> references;
   SphereOptions analytic;
-  for (IntegratorKind kind : integrators) {
-    const std::string name = to_string(kind);
+  for (const IntegratorInfo* integrator : integrators) {
+    const std::string name = integrator->name;
     CompareRow row;
     row.reference = true;
     row.integrator = name;
     row.spheres = to_string(analytic);
     if (file_reference) {
-      references[kind] = file_reference->image;
+      references[name] = file_reference->image;
       progress(name + " reference");
       continue;
     }
     row.spp = o_.reference_spp;
     const std::string cache_dir = reference_cache_dir();
-    const ReferenceKey key = reference_key(o_.scene, setup_, name, analytic, o_.reference_spp);
+    const RenderJob job = job_for(*integrator, analytic, o_.reference_spp);
+    const ParameterValues parameters(integrator->parameters, job.integrator_parameters);
+    const ReferenceKey key = reference_key(o_.scene.scene_path, session_.scene(), job,
+                                           session_.film(job), parameters, camera);
     const std::string cache_path = cached_reference_path(cache_dir, key);
     RenderResult result;
     if (std::optional<RecordedRender> cached = find_cached_reference(cache_dir, key)) {
-      references[kind] = std::move(cached->image);
+      references[name] = std::move(cached->image);
       result.seconds = cached->seconds;
       result.rays = cached->rays;
       row.source = "cache";
@@ -216,24 +195,22 @@ CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
                                        std::to_string(o_.reference_spp) + " spp, from the cache " +
                                        cache_path);
     } else {
-      const BuiltScene& built = scene_for(analytic);
       // One pass of one sample warms up as well as a whole reference would, at 1/spp the cost.
-      result = render_timed(*make_integrator(kind), built, settings_for(o_.reference_spp), 1,
-                            &references[kind]);
-      row.bvh_seconds = built.bvh_seconds;
+      RenderOutput out = render_timed(job, 1, &row.bvh_seconds);
+      result = out.result;
       row.peak_rss_mib = peak_rss_mib();
       fs::create_directories(cache_dir);
-      RenderMetadata metadata =
-          metadata_for(name, analytic, result, settings_for(o_.reference_spp));
-      metadata.extra.push_back(reference_metadata_entry(key));
-      write_exr(cache_path, references[kind], colour_, metadata, ExrPixelType::float32);
+      out.metadata.extra.push_back(reference_metadata_entry(key));
+      write_exr(cache_path, out.image, session_.colour(job.working_space), out.metadata,
+                ExrPixelType::float32);
+      references[name] = std::move(out.image);
       report.reference_notes.push_back(
           name + ": analytic spheres, " + std::to_string(o_.reference_spp) + " spp, rendered in " +
           format_error(result.seconds) + " s and cached as " + cache_path);
     }
     row.seconds = result.seconds;
     row.rays = result.rays;
-    save(name + "-reference", references[kind], nullptr, cache_path, &row);
+    save(name + "-reference", references[name], nullptr, cache_path, base_.working_space, &row);
     report.rows.push_back(row);
     progress(name + " reference");
   }
@@ -246,7 +223,7 @@ CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
     row.seconds = file_reference->seconds;
     row.rays = file_reference->rays;
     row.source = "file";
-    save("reference", file_reference->image, nullptr, o_.reference_path, &row);
+    save("reference", file_reference->image, nullptr, o_.reference_path, base_.working_space, &row);
     report.rows.push_back(row);
     report.reference_notes.push_back("all integrators: the file " + o_.reference_path);
   }
@@ -256,33 +233,27 @@ CompareReport Comparison::run(const std::vector<IntegratorKind>& integrators,
   const int cap = *std::max_element(o_.spp.begin(), o_.spp.end());
   std::vector<std::pair<std::tuple<size_t, size_t, size_t>, CompareRow>> tests;
   for (size_t m = 0; m < modes.size(); ++m) {
-    const BuiltScene& built = scene_for(modes[m]);
     for (size_t i = 0; i < integrators.size(); ++i) {
-      const std::unique_ptr<Integrator> integrator = make_integrator(integrators[i]);
       for (size_t k = 0; k < runs; ++k) {
         CompareRow row;
-        row.integrator = integrator->name();
+        row.integrator = integrators[i]->name;
         row.spheres = to_string(modes[m]);
         const bool uniform = k < o_.spp.size();
         row.spp = uniform ? o_.spp[k] : cap;
         if (!uniform) row.target_error = o_.target_errors[k - o_.spp.size()];
-        const RenderSettings settings = settings_for(row.spp, row.target_error);
+        const RenderJob job = job_for(*integrators[i], modes[m], row.spp, row.target_error);
         const std::string spp_text = std::to_string(row.spp) + "spp";
         const std::string name = row.integrator + "-" + file_safe(row.spheres) + "-" +
                                  (uniform ? "" : file_safe(sampling_label(row)) + "-") + spp_text;
         progress(row.integrator + ", " + row.spheres + ", " + sampling_label(row) + ", " +
                  std::to_string(row.spp) + " spp");
-        Image image;
         // The warm-up is the same render: an adaptive one decides its samples as it goes.
-        const RenderResult result =
-            render_timed(*integrator, built, settings, settings.spp, &image);
-        row.seconds = result.seconds;
-        row.rays = result.rays;
-        row.bvh_seconds = built.bvh_seconds;
+        const RenderOutput out = render_timed(job, job.film.spp, &row.bvh_seconds);
+        row.seconds = out.result.seconds;
+        row.rays = out.result.rays;
         row.peak_rss_mib = peak_rss_mib();
-        row.error = compare_images(image, references.at(integrators[i])).overall;
-        const RenderMetadata metadata = metadata_for(row.integrator, modes[m], result, settings);
-        save(name, image, &metadata, "", &row);
+        row.error = compare_images(out.image, references.at(row.integrator)).overall;
+        save(name, out.image, &out.metadata, "", job.working_space, &row);
         tests.push_back({{i, m, k}, row});
       }
     }
@@ -319,9 +290,9 @@ Plot make_plot(CompareReport* report) {
 }
 
 int run(const CompareOptions& o) {
-  std::vector<IntegratorKind> integrators;
+  std::vector<const IntegratorInfo*> integrators;
   for (const std::string& name : o.integrators)
-    integrators.push_back(parse_integrator_option(name, "--integrators"));
+    integrators.push_back(&parse_integrator_option(name, "--integrators"));
   refuse_duplicates(o.integrators, "--integrators");
   std::vector<SphereOptions> modes;
   std::vector<std::string> mode_names;
@@ -335,7 +306,13 @@ int run(const CompareOptions& o) {
   // As `prism render` says it: the rounds double from --min-spp (docs/sampling.md).
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
-  SceneSetup setup = check_scene_options(o.scene);
+  RenderJob base = base_job(o.scene);
+  // A parameter none of the integrators takes would change nothing: say so.
+  for (const auto& [name, value] : base.integrator_parameters) {
+    bool taken = false;
+    for (const IntegratorInfo* info : integrators) taken = taken || takes_parameter(*info, name);
+    if (!taken) throw UsageError("--" + name + ": none of the integrators compared takes it");
+  }
   check_report_dir(o.report_dir);
   // Read before the scene, so a wrong path costs nothing.
   std::optional<RecordedRender> file_reference;
@@ -349,13 +326,19 @@ int run(const CompareOptions& o) {
     reference_cache_dir();  // fails now, not after the first renders, when there is none
   }
 
-  const auto thread_limit = limit_threads(o.scene.threads);
-  const ColourPipeline colour(setup.working_space);
-  load_scene(o.scene, &setup);
-  if (file_reference) check_reference_size(file_reference->image, o.reference_path, setup.settings);
+  Session session(scene_request(o.scene, SphereDetectionFlags{}), session_options(o.scene));
+  print_warnings(o.scene.scene_path, session.warnings());
+  if (file_reference) {
+    const RenderSettings film = session.film(base);
+    if (file_reference->image.width != film.width || file_reference->image.height != film.height)
+      throw UsageError("--reference " + o.reference_path + " is " +
+                       std::to_string(file_reference->image.width) + "x" +
+                       std::to_string(file_reference->image.height) + " but the render is " +
+                       std::to_string(film.width) + "x" + std::to_string(film.height));
+  }
   fs::create_directories(fs::path(o.report_dir) / "images");
 
-  Comparison comparison(o, setup, colour);
+  Comparison comparison(o, session, base);
   CompareReport report =
       comparison.run(integrators, modes, file_reference ? &*file_reference : nullptr);
   const Plot plot = make_plot(&report);
@@ -398,7 +381,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
   cmd->add_option("-o,--output", o->report_dir,
                   "Report directory (created; files in it are replaced)")
       ->required();
-  cmd->add_option("--integrators", o->integrators, "Comma-separated: phong, shadow, whitted")
+  cmd->add_option("--integrators", o->integrators, "Comma-separated: " + integrator_choices(", "))
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--spp", o->spp, "Comma-separated samples per pixel")

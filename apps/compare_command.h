@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "apps/render_setup.h"
+#include "apps/command_line.h"
 #include "renderer/integrator.h"
 
 namespace prism {

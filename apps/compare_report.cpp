@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/command_line.h"
 #include "apps/compare_plot.h"
-#include "apps/render_setup.h"
 
 namespace prism {
 namespace {
@@ -24,8 +24,8 @@ using nlohmann::json;
 enum Where { kFiles = 1, kTables = 2, kEverywhere = kFiles | kTables };
 
 struct Column {
-  const char* key;     // JSON key and CSV header
-  const char* header;  // terminal and HTML header
+  std::string key;     // JSON key and CSV header
+  std::string header;  // terminal and HTML header
   int where;
   std::function<json(const CompareRow&, const CompareReport&)> value;
 };
@@ -44,57 +44,66 @@ json error_field(const CompareRow& r, double ChannelError::*field) {
 // --reference file without prism's metadata, which has no ray counts.
 std::optional<double> mean_spp(const CompareRow& row, const CompareReport& report) {
   const double pixels = static_cast<double>(report.width) * report.height;
-  if (row.rays.camera == 0 || pixels <= 0) return std::nullopt;
-  return static_cast<double>(row.rays.camera) / pixels;
+  if (row.rays[RayKind::camera] == 0 || pixels <= 0) return std::nullopt;
+  return static_cast<double>(row.rays[RayKind::camera]) / pixels;
 }
 
 const std::vector<Column>& columns() {
-  static const std::vector<Column> list = {
-      {"scene", "scene", kFiles, [](auto&, auto& rep) { return json(rep.scene); }},
-      {"role", "role", kFiles,
-       [](auto& r, auto&) { return json(r.reference ? "reference" : "test"); }},
-      {"integrator", "integrator", kEverywhere, [](auto& r, auto&) { return json(r.integrator); }},
-      {"spheres", "spheres", kEverywhere, [](auto& r, auto&) { return json(r.spheres); }},
-      {"sampling", "sampling", kFiles,
-       [](auto& r, auto&) { return json(r.target_error ? "adaptive" : "uniform"); }},
-      {"target_error", "target error", kFiles,
-       [](auto& r, auto&) { return optional(r.target_error); }},
-      {"sampling_label", "sampling", kTables,
-       [](auto& r, auto&) { return json(sampling_label(r)); }},
-      {"spp", "spp", kEverywhere, [](auto& r, auto&) { return json(r.spp); }},
-      {"mean_spp", "mean spp", kEverywhere,
-       [](auto& r, auto& rep) { return optional(mean_spp(r, rep)); }},
-      {"wall_seconds", "time s", kEverywhere, [](auto& r, auto&) { return json(r.seconds); }},
-      {"bvh_build_seconds", "BVH s", kEverywhere,
-       [](auto& r, auto&) { return optional(r.bvh_seconds); }},
-      {"rays_camera", "camera", kEverywhere, [](auto& r, auto&) { return json(r.rays.camera); }},
-      {"rays_shadow", "shadow", kEverywhere, [](auto& r, auto&) { return json(r.rays.shadow); }},
-      {"rays_reflection", "reflection", kEverywhere,
-       [](auto& r, auto&) { return json(r.rays.reflection); }},
-      {"rays_refraction", "refraction", kEverywhere,
-       [](auto& r, auto&) { return json(r.rays.refraction); }},
-      {"rays_per_second", "rays/s", kEverywhere,
-       [](auto& r, auto&) {
-         return r.seconds > 0 ? json(static_cast<double>(r.rays.total()) / r.seconds)
-                              : json(nullptr);
-       }},
-      {"rmse", "RMSE", kEverywhere,
-       [](auto& r, auto&) { return error_field(r, &ChannelError::rmse); }},
-      {"relmse", "relMSE", kEverywhere,
-       [](auto& r, auto&) { return error_field(r, &ChannelError::relmse); }},
-      {"psnr_db", "PSNR dB", kEverywhere,
-       [](auto& r, auto&) { return error_field(r, &ChannelError::psnr); }},
-      {"peak_rss_mib", "peak MiB", kEverywhere,
-       [](auto& r, auto&) { return optional(r.peak_rss_mib); }},
-      {"source", "source", kFiles, [](auto& r, auto&) { return json(r.source); }},
-      {"pareto", "pareto", kFiles, [](auto& r, auto&) { return json(r.pareto); }},
-      {"note", "note", kTables,
-       [](auto& r, auto&) {
-         if (r.reference) return json("reference (" + r.source + ")");
-         return json(r.pareto ? "Pareto front" : "");
-       }},
-      {"image", "image", kFiles, [](auto& r, auto&) { return json(r.image); }},
-  };
+  static const std::vector<Column> list = [] {
+    std::vector<Column> list = {
+        {"scene", "scene", kFiles, [](auto&, auto& rep) { return json(rep.scene); }},
+        {"role", "role", kFiles,
+         [](auto& r, auto&) { return json(r.reference ? "reference" : "test"); }},
+        {"integrator", "integrator", kEverywhere,
+         [](auto& r, auto&) { return json(r.integrator); }},
+        {"spheres", "spheres", kEverywhere, [](auto& r, auto&) { return json(r.spheres); }},
+        {"sampling", "sampling", kFiles,
+         [](auto& r, auto&) { return json(r.target_error ? "adaptive" : "uniform"); }},
+        {"target_error", "target error", kFiles,
+         [](auto& r, auto&) { return optional(r.target_error); }},
+        {"sampling_label", "sampling", kTables,
+         [](auto& r, auto&) { return json(sampling_label(r)); }},
+        {"spp", "spp", kEverywhere, [](auto& r, auto&) { return json(r.spp); }},
+        {"mean_spp", "mean spp", kEverywhere,
+         [](auto& r, auto& rep) { return optional(mean_spp(r, rep)); }},
+        {"wall_seconds", "time s", kEverywhere, [](auto& r, auto&) { return json(r.seconds); }},
+        {"bvh_build_seconds", "BVH s", kEverywhere,
+         [](auto& r, auto&) { return optional(r.bvh_seconds); }},
+        {"rays_per_second", "rays/s", kEverywhere,
+         [](auto& r, auto&) {
+           return r.seconds > 0 ? json(static_cast<double>(r.rays.total()) / r.seconds)
+                                : json(nullptr);
+         }},
+        {"rmse", "RMSE", kEverywhere,
+         [](auto& r, auto&) { return error_field(r, &ChannelError::rmse); }},
+        {"relmse", "relMSE", kEverywhere,
+         [](auto& r, auto&) { return error_field(r, &ChannelError::relmse); }},
+        {"psnr_db", "PSNR dB", kEverywhere,
+         [](auto& r, auto&) { return error_field(r, &ChannelError::psnr); }},
+        {"peak_rss_mib", "peak MiB", kEverywhere,
+         [](auto& r, auto&) { return optional(r.peak_rss_mib); }},
+        {"source", "source", kFiles, [](auto& r, auto&) { return json(r.source); }},
+        {"pareto", "pareto", kFiles, [](auto& r, auto&) { return json(r.pareto); }},
+        {"note", "note", kTables,
+         [](auto& r, auto&) {
+           if (r.reference) return json("reference (" + r.source + ")");
+           return json(r.pareto ? "Pareto front" : "");
+         }},
+        {"image", "image", kFiles, [](auto& r, auto&) { return json(r.image); }},
+    };
+    // One column per kind of ray, before rays/s.
+    auto at = std::find_if(list.begin(), list.end(),
+                           [](const Column& c) { return c.key == "rays_per_second"; });
+    for (const EnumName<RayKind>& kind : kRayKindNames) {
+      const RayKind k = kind.value;
+      at = list.insert(at, Column{std::string("rays_") + kind.name, kind.name, kEverywhere,
+                                  [k](const CompareRow& r, const CompareReport&) {
+                                    return json(r.rays[k]);
+                                  }}) +
+           1;
+    }
+    return list;
+  }();
   return list;
 }
 

@@ -15,13 +15,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/render_setup.h"
+#include "apps/command_line.h"
 #include "renderer/geometry/embree_scene.h"
-#include "scene_passes/scene_defaults.h"
-#include "renderer/scene_features.h"
 #include "renderer/geometry/sphere_geometry.h"
+#include "renderer/scene_features.h"
 #include "scene_io/gltf_loader.h"
 #include "scene_io/gltf_scene_select.h"
+#include "scene_passes/scene_defaults.h"
+#include "session/session.h"
 
 namespace prism {
 namespace {
@@ -46,30 +47,6 @@ std::string triple(const V3d& v) {
 
 const char* encoding_name(TextureEncoding e) {
   return e == TextureEncoding::srgb ? "sRGB" : "linear";
-}
-
-const char* wrap_name(TextureWrap w) {
-  switch (w) {
-    case TextureWrap::repeat:
-      return "repeat";
-    case TextureWrap::clamp_to_edge:
-      return "clamp-to-edge";
-    case TextureWrap::mirrored_repeat:
-      return "mirrored-repeat";
-  }
-  return "repeat";
-}
-
-const char* light_type_name(LightType t) {
-  switch (t) {
-    case LightType::directional:
-      return "directional";
-    case LightType::point:
-      return "point";
-    case LightType::spot:
-      return "spot";
-  }
-  return "point";
 }
 
 std::string texture_name(const SceneDescription& scene, int index) {
@@ -219,8 +196,8 @@ void print_textures(const SceneDescription& scene) {
     const TextureImage& t = scene.textures[i];
     std::printf("  [%zu] %s: %dx%d, %d channel%s, %s, wrap %s/%s\n", i,
                 t.name.empty() ? "(unnamed)" : t.name.c_str(), t.width, t.height, t.channels,
-                t.channels == 1 ? "" : "s", encoding_name(t.encoding), wrap_name(t.wrap_s),
-                wrap_name(t.wrap_t));
+                t.channels == 1 ? "" : "s", encoding_name(t.encoding), to_string(t.wrap_s),
+                to_string(t.wrap_t));
   }
 }
 
@@ -230,7 +207,7 @@ void print_lights(const SceneDescription& scene) {
     const Light& l = scene.lights[i];
     // glTF's units: directional lights in lux, point and spot lights in candela.
     std::string line = "  [" + std::to_string(i) + "] " + (l.name.empty() ? "(unnamed)" : l.name) +
-                       ": " + light_type_name(l.type) + ", " + number(l.intensity) +
+                       ": " + to_string(l.type) + ", " + number(l.intensity) +
                        (l.type == LightType::directional ? " lx" : " cd") + ", colour " +
                        triple(l.colour);
     if (l.type != LightType::directional) line += ", at " + triple(l.position);
@@ -279,23 +256,17 @@ void print_spheres(const SceneDescription& scene) {
 
 int run(const InfoOptions& o) {
   const SphereOptions spheres = parse_spheres_option(o.spheres, "--spheres");
-  const SphereDetectionOptions sphere_detection = check_sphere_detection_flags(o.sphere_detection);
-  SceneDescription scene;
-  using Clock = std::chrono::steady_clock;
-  const auto load_start = Clock::now();
-  try {
-    LoadOptions load_options;
-    load_options.allow_external_paths = o.allow_external_paths;
-    load_options.scene = o.scene;
-    scene = load_selected_scene(o.scene_path, load_options);
-  } catch (const LoadError&) {
-    throw;  // already "<file>: <element>: <what>"
-  } catch (const UsageError&) {
-    throw;  // --scene names no scene of the file
-  } catch (const std::exception& e) {
-    throw std::runtime_error(o.scene_path + ": " + e.what());
-  }
-  const double load_seconds = std::chrono::duration<double>(Clock::now() - load_start).count();
+  SphereDetectionFlags detection_flags = o.sphere_detection;
+  detection_flags.replace = false;
+  SceneOptions scene_options;
+  scene_options.scene_path = o.scene_path;
+  scene_options.scene = o.scene;
+  scene_options.allow_external_paths = o.allow_external_paths;
+  SceneRequest request = scene_request(scene_options, detection_flags);
+  // The file's own cameras and lights first; the defaults a render adds come after.
+  request.add_defaults = false;
+  Session session(request);
+  const SceneDescription& scene = session.scene();
   std::printf("file: %s\n", o.scene_path.c_str());
   const nlohmann::json root = read_gltf_json(o.scene_path);
   print_scenes(root, o);
@@ -305,29 +276,30 @@ int run(const InfoOptions& o) {
   print_lights(scene);
   print_cameras(scene);
   print_spheres(scene);
-  print_sphere_meshes(scene, sphere_detection);
+  print_sphere_meshes(scene, request.sphere_detection);
   std::printf("extensions: used %s; required %s\n", extension_list(root, "extensionsUsed").c_str(),
               extension_list(root, "extensionsRequired").c_str());
   // The feature set as `prism render` derives it: with the default camera and light that a
   // scene without them gets (their warnings follow).
-  add_scene_defaults(&scene);
+  session.add_defaults();
   std::printf("features (spheres %s): %s\n", to_string(spheres).c_str(),
               to_string(derive_scene_features(scene, spheres)).c_str());
   std::printf("warnings: %zu\n", scene.warnings.size());
   for (const std::string& w : scene.warnings) std::printf("  %s\n", w.c_str());
   if (o.timing) {
-    // The BVH as `prism render` builds it (default options: world origin 0, no textures,
-    // which only MASK/BLEND filters read at render time). No ray follows, so the quality is
-    // the cheapest to build: MEDIUM, as LOW built no faster (docs/benchmarks.md).
-    GeometryOptions options;
-    options.build_quality = BuildQuality::medium;
-    const auto build_start = Clock::now();
-    const EmbreeScene geometry(scene, options);
-    const double build_seconds = std::chrono::duration<double>(Clock::now() - build_start).count();
+    // The render scene as `prism render` builds it (BVH, materials, textures). No ray
+    // follows, so the quality is the cheapest to build: MEDIUM, as LOW built no faster
+    // (docs/benchmarks.md).
+    RenderJob job;
+    job.spheres = spheres;
+    job.build_quality = BuildQuality::medium;
+    double build_seconds = 0.0;
+    const RenderScene& built = session.render_scene(job, &build_seconds);
     struct rusage usage {};
     getrusage(RUSAGE_SELF, &usage);
-    const size_t triangles = geometry.statistics().triangles;
+    const size_t triangles = built.geometry().statistics().triangles;
     const double peak_bytes = static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux: KiB
+    const double load_seconds = session.load_seconds();
     std::printf(
         "timing: load %.3f s, BVH build %.3f s, total %.3f s; %s triangles; peak memory "
         "%.1f MiB (%.0f bytes per triangle)\n",

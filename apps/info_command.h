@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "apps/render_setup.h"
+#include "apps/command_line.h"
 
 namespace prism {
 

@@ -1,5 +1,6 @@
 #include "apps/reference_cache.h"
 
+#include <cctype>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -68,23 +69,24 @@ std::string scene_fingerprint(const std::string& scene_path) {
 
 }  // namespace
 
-ReferenceKey reference_key(const SceneOptions& options, const SceneSetup& setup,
-                           const std::string& integrator, const SphereOptions& spheres, int spp) {
-  const CameraDescription& camera = setup.camera();
-  const RenderSettings& s = setup.settings;
+ReferenceKey reference_key(const std::string& scene_path, const SceneDescription& scene,
+                           const RenderJob& job, const RenderSettings& s,
+                           const ParameterValues& parameters, int camera_index) {
+  const CameraDescription& camera = scene.cameras.at(static_cast<size_t>(camera_index));
   std::vector<double> camera_to_world;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) camera_to_world.push_back(camera.camera_to_world[r][c]);
   ReferenceKey key;
   key.settings = {
       {"version", kVersion},
-      {"scene", scene_fingerprint(options.scene_path)},
-      {"integrator", integrator},
-      {"spp", spp},
+      {"scene", scene_fingerprint(scene_path)},
+      {"integrator", job.integrator},
+      {"parameters", parameters.values()},
+      {"spp", s.spp},
       {"width", s.width},
       {"height", s.height},
       {"camera",
-       {{"index", setup.camera_index},
+       {{"index", camera_index},
         {"name", camera.name},
         {"projection", static_cast<int>(camera.projection)},
         {"cameraToWorld", camera_to_world},
@@ -93,11 +95,9 @@ ReferenceKey reference_key(const SceneOptions& options, const SceneSetup& setup,
         {"xmag", camera.xmag},
         {"ymag", camera.ymag},
         {"znear", camera.znear}}},
-      {"maxDepth", s.max_depth},
-      {"workingSpace", to_string(setup.working_space)},
-      {"ambient", {s.ambient.x, s.ambient.y, s.ambient.z}},
-      {"background", {s.background.x, s.background.y, s.background.z}},
-      {"spheres", to_string(spheres)},
+      {"workingSpace", to_string(job.working_space)},
+      {"background", job.background},
+      {"spheres", to_string(job.spheres)},
   };
   const std::string text = key.settings.dump();
   key.hash = hex128(OIIO::farmhash::Fingerprint128(text.data(), text.size()));
@@ -136,10 +136,11 @@ RecordedRender read_recorded_render(const std::string& path) {
     return std::strtoull(spec.get_string_attribute(std::string("prism:") + name).c_str(), nullptr,
                          10);
   };
-  recorded.rays.camera = count("raysCamera");
-  recorded.rays.shadow = count("raysShadow");
-  recorded.rays.reflection = count("raysReflection");
-  recorded.rays.refraction = count("raysRefraction");
+  for (const EnumName<RayKind>& kind : kRayKindNames) {
+    std::string name = kind.name;
+    name[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
+    recorded.rays[kind.value] = count(("rays" + name).c_str());
+  }
   recorded.rays.discarded_samples = count("discardedSamples");
   return recorded;
 }

@@ -8,9 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/render_setup.h"
+#include "apps/command_line.h"
+#include "integrators/parameters.h"
 #include "renderer/image/image.h"
 #include "renderer/integrator.h"
+#include "renderer/scene_description.h"
 
 namespace prism {
 
@@ -20,11 +22,12 @@ struct ReferenceKey {
 };
 
 // The hash of the scene file's bytes (and of the external buffers and images it names), the
-// program version and every setting that changes the image: integrator, spp, resolution, the
-// camera used, max depth, working space, ambient, background, sphere mode. Not the thread
+// program version and every setting that changes the image: integrator and its parameters,
+// spp, resolution, the camera used, working space, background, sphere mode. Not the thread
 // count: the image is bit-identical whatever it is.
-ReferenceKey reference_key(const SceneOptions& options, const SceneSetup& setup,
-                           const std::string& integrator, const SphereOptions& spheres, int spp);
+ReferenceKey reference_key(const std::string& scene_path, const SceneDescription& scene,
+                           const RenderJob& job, const RenderSettings& film,
+                           const ParameterValues& parameters, int camera_index);
 
 // $XDG_CACHE_HOME/prism/references, or ~/.cache/prism/references. Throws UsageError when
 // neither XDG_CACHE_HOME nor HOME is set.

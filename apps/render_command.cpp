@@ -1,31 +1,15 @@
 #include "apps/render_command.h"
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <memory>
 #include <string>
-#include <vector>
 
 #include "apps/progress_bar.h"
-#include "integrators/integrators.h"
-#include "renderer/image/colour.h"
-#include "renderer/image/image_metrics.h"
-#include "renderer/image/image_output.h"
-#include "renderer/render.h"
-#include "renderer/render_scene.h"
-#include "renderer/scene_features.h"
-#include "renderer/geometry/sphere_geometry.h"
+#include "session/output_files.h"
+#include "session/session.h"
 
 namespace prism {
 namespace {
-
-// The error after one pass, against --reference.
-struct QuickError {
-  double rmse = 0.0;
-  double relmse = 0.0;
-};
 
 // "16 spp", or for an adaptive render "256 spp max, 21.7 mean, 9 rounds, time limit reached".
 std::string spp_summary(const RenderResult& result, const RenderSettings& settings) {
@@ -37,133 +21,94 @@ std::string spp_summary(const RenderResult& result, const RenderSettings& settin
   return text + buffer;
 }
 
-// Each pixel's sample count as grey (R = G = B), alpha 1.
-Image sample_count_image(const RenderResult& result, const RenderSettings& settings) {
-  Image image(settings.width, settings.height);
-  for (size_t i = 0; i < image.rgba.size() / 4; ++i) {
-    const float n = result.samples_per_pixel.empty()
-                        ? static_cast<float>(settings.spp)
-                        : static_cast<float>(result.samples_per_pixel[i]);
-    image.rgba[i * 4 + 0] = image.rgba[i * 4 + 1] = image.rgba[i * 4 + 2] = n;
-    image.rgba[i * 4 + 3] = 1.0f;
-  }
-  return image;
+// "camera 1,024, shadow 2,048, reflection 0, refraction 0, total 3,072"
+std::string ray_summary(const RayCounters& rays) {
+  std::string text;
+  for (const EnumName<RayKind>& kind : kRayKindNames)
+    text += std::string(kind.name) + " " + with_commas(rays[kind.value]) + ", ";
+  return text + "total " + with_commas(rays.total());
 }
 
 int run(const RenderOptions& o) {
   const auto wall_start = std::chrono::steady_clock::now();
-  const IntegratorKind integrator_kind = parse_integrator_option(o.integrator, "--integrator");
-  const SphereOptions spheres = parse_spheres_option(o.spheres, "--spheres");
-  const BuildQuality build_quality = parse_build_quality_option(o.build_quality, "--build-quality");
-  const SphereDetectionOptions sphere_detection = check_sphere_detection_flags(o.sphere_detection);
-  SceneSetup setup = check_scene_options(o.scene);
-  check_output_path(o.output_path, ".exr", "-o");
-  if (!o.preview_path.empty()) check_output_path(o.preview_path, ".png", "--preview");
-  if (!o.sample_count_path.empty())
-    check_output_path(o.sample_count_path, ".exr", "--sample-count-image");
+  // Everything that needs no file first, so a typo costs nothing.
+  RenderJob job = base_job(o.scene);
+  job.integrator = parse_integrator_option(o.integrator, "--integrator").name;
+  job.spheres = parse_spheres_option(o.spheres, "--spheres");
+  job.build_quality = parse_choice<BuildQuality>(o.build_quality, "--build-quality");
+  job.robust = o.robust;
+  job.film.spp = o.spp;
+  job.film.specialise = !o.general_path;
+  job.film.target_error = static_cast<float>(o.target_error);
+  job.film.time_limit_seconds = o.time_limit;
+  job.film.min_spp = o.min_spp;
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
-  // Read before the scene, so a wrong path costs nothing.
-  const Image reference = o.reference_path.empty() ? Image() : read_reference(o.reference_path);
+  job.reference_path = o.reference_path;
+  const OutputFiles files{o.output_path, o.preview_path, o.sample_count_path,
+                          o.half ? ExrPixelType::half : ExrPixelType::float32};
+  check_output_files(files, o.scene.scene_path);
+  const SceneRequest request = scene_request(o.scene, o.sphere_detection);
 
-  const auto thread_limit = limit_threads(o.scene.threads);
-  const ColourPipeline colour(setup.working_space);
-  const auto load_start = std::chrono::steady_clock::now();
-  load_scene(o.scene, &setup);
-  if (o.sphere_detection.replace)
-    replace_detected_spheres(sphere_detection, o.scene.scene_path, &setup.scene);
-  RenderSettings& settings = setup.settings;
-  const CameraDescription& camera_description = setup.camera();
-  if (!o.reference_path.empty()) check_reference_size(reference, o.reference_path, settings);
-  settings.spp = o.spp;
-  settings.specialise = !o.general_path;
-  settings.target_error = static_cast<float>(o.target_error);
-  settings.time_limit_seconds = o.time_limit;
-  settings.min_spp = o.min_spp;
-  const GeometryOptions geometry_options = setup.geometry_options(spheres, o.robust, build_quality);
-  const RenderScene render_scene(setup.scene, geometry_options, colour);
-  const double load_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
-  const Camera camera = render_scene.camera(camera_description, settings.width, settings.height);
-  const std::unique_ptr<Integrator> integrator = make_integrator(integrator_kind);
-  const GeometryStatistics& stats = render_scene.geometry().statistics();
+  Session session(request, session_options(o.scene));
+  print_warnings(o.scene.scene_path, session.warnings());
+  for (const std::string& line : session.sphere_detection_report())
+    std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),
+                 line.c_str());
+  session.check(job);
+  // Built before the render so that --verbose can describe it and the summary time it.
+  double build_seconds = 0.0;
+  const RenderScene& built = session.render_scene(job, &build_seconds);
   if (o.verbose) {
+    const GeometryStatistics& stats = built.geometry().statistics();
+    const int camera = session.camera_index(job.camera);
+    const RenderSettings film = session.film(job);
     std::fprintf(stderr,
                  "prism: %s: %zu triangles (%zu meshes baked, %zu instances), %zu spheres (%s), "
                  "%zu lights, camera '%s', %dx%d, %d spp, loaded and built in %.3f s\n",
                  o.scene.scene_path.c_str(), stats.triangles, stats.meshes_baked,
-                 stats.mesh_instances, stats.spheres, to_string(geometry_options.spheres).c_str(),
-                 render_scene.lights().size(), camera_description.name.c_str(), settings.width,
-                 settings.height, settings.spp, load_seconds);
-    std::fprintf(stderr, "prism: features: %s\n", to_string(render_scene.features()).c_str());
+                 stats.mesh_instances, stats.spheres, to_string(job.spheres).c_str(),
+                 built.lights().size(),
+                 session.scene().cameras[static_cast<size_t>(camera)].name.c_str(), film.width,
+                 film.height, film.spp, session.load_seconds() + build_seconds);
+    std::fprintf(stderr, "prism: features: %s\n", to_string(built.features()).c_str());
   }
 
   // With a reference, the per-pass lines report progress, and a bar would garble them.
   ProgressBar progress(!o.quiet && o.reference_path.empty());
-  Image image;
-  const RenderContext context{render_scene, camera, settings};
-  std::vector<QuickError> pass_errors;
-  PassCallback after_pass;
-  if (!o.reference_path.empty()) {
-    after_pass = [&](int samples, const Image& so_far) {
-      const ImageError e = compare_images(so_far, reference);
-      pass_errors.push_back({e.overall.rmse, e.overall.relmse});
-      if (!o.quiet)
-        std::fprintf(stderr, "prism: pass %d/%d: RMSE %.6g relMSE %.6g\n", samples, settings.spp,
-                     e.overall.rmse, e.overall.relmse);
+  JobCallbacks callbacks;
+  callbacks.progress = [&](int done, int total) { progress.update(done, total); };
+  if (!o.quiet)
+    callbacks.pass_error = [&](const PassError& e) {
+      std::fprintf(stderr, "prism: pass %d/%d: RMSE %.6g relMSE %.6g\n", e.samples, job.film.spp,
+                   e.rmse, e.relmse);
     };
-  }
-  const RenderResult result = render(
-      *integrator, context, &image, [&](int done, int total) { progress.update(done, total); },
-      after_pass);
+  const RenderOutput out = session.render(job, callbacks);
   progress.finish();
+  const RenderResult& result = out.result;
   if (result.time_limit_reached && !o.quiet)
     std::fprintf(stderr,
                  "prism: --time-limit %g s reached after round %d (%.4g spp mean); the image "
                  "depends on this machine's speed\n",
-                 settings.time_limit_seconds, result.rounds, result.mean_spp(settings));
-
-  RenderMetadata metadata =
-      render_metadata(o.scene, setup, camera, integrator->name(), geometry_options, result);
-  if (!pass_errors.empty()) {
-    std::string rmse, relmse;
-    for (const QuickError& e : pass_errors) {
-      rmse += (rmse.empty() ? "" : ",") + format_error(e.rmse);
-      relmse += (relmse.empty() ? "" : ",") + format_error(e.relmse);
-    }
-    metadata.extra.insert(metadata.extra.end(),
-                          {{"reference", o.reference_path},
-                           {"referenceRMSE", format_error(pass_errors.back().rmse)},
-                           {"referenceRelMSE", format_error(pass_errors.back().relmse)},
-                           {"referenceRMSEPerPass", rmse},
-                           {"referenceRelMSEPerPass", relmse}});
-  }
-  write_exr(o.output_path, image, colour, metadata,
-            o.half ? ExrPixelType::half : ExrPixelType::float32);
-  if (!o.preview_path.empty()) write_png_preview(o.preview_path, image, colour);
-  if (!o.sample_count_path.empty())
-    write_exr(o.sample_count_path, sample_count_image(result, settings), colour, metadata,
-              ExrPixelType::float32);
+                 out.film.time_limit_seconds, result.rounds, result.mean_spp(out.film));
+  write_output_files(files, out, session.colour(job.working_space));
 
   if (!o.quiet) {
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     const RayCounters& r = result.rays;
     std::printf("rendered %s with %s, %dx%d, %s, spheres %s\n", o.scene.scene_path.c_str(),
-                integrator->name(), settings.width, settings.height,
-                spp_summary(result, settings).c_str(), to_string(geometry_options.spheres).c_str());
+                out.integrator.c_str(), out.film.width, out.film.height,
+                spp_summary(result, out.film).c_str(), to_string(job.spheres).c_str());
     std::printf("render time  %.3f s (load + build %.3f s, total %.3f s)\n", result.seconds,
-                load_seconds, wall);
-    std::printf("rays         camera %s, shadow %s, reflection %s, refraction %s, total %s\n",
-                with_commas(r.camera).c_str(), with_commas(r.shadow).c_str(),
-                with_commas(r.reflection).c_str(), with_commas(r.refraction).c_str(),
-                with_commas(r.total()).c_str());
+                session.load_seconds() + build_seconds, wall);
+    std::printf("rays         %s\n", ray_summary(r).c_str());
     std::printf("rays/second  %.3g\n", result.seconds > 0.0 ? r.total() / result.seconds : 0.0);
     std::printf("discarded    %s non-finite samples\n", with_commas(r.discarded_samples).c_str());
-    if (!pass_errors.empty())
+    if (!out.pass_errors.empty())
       std::printf("reference    RMSE %s, relMSE %s against %s\n",
-                  format_error(pass_errors.back().rmse).c_str(),
-                  format_error(pass_errors.back().relmse).c_str(), o.reference_path.c_str());
+                  format_error(out.pass_errors.back().rmse).c_str(),
+                  format_error(out.pass_errors.back().relmse).c_str(), o.reference_path.c_str());
     std::printf("wrote        %s\n", o.output_path.c_str());
     if (!o.preview_path.empty()) std::printf("wrote        %s\n", o.preview_path.c_str());
     if (!o.sample_count_path.empty()) std::printf("wrote        %s\n", o.sample_count_path.c_str());
@@ -177,7 +122,10 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene to an EXR image");
   add_scene_options(cmd, &o->scene);
   cmd->add_option("-o,--output", o->output_path, "Output image (.exr), scene-linear")->required();
-  cmd->add_option("--integrator", o->integrator, "phong | shadow | whitted")->capture_default_str();
+  std::string integrators;
+  for (const IntegratorInfo* info : integrator_registry())
+    integrators += std::string(integrators.empty() ? "" : "; ") + info->name + ": " + info->summary;
+  cmd->add_option("--integrator", o->integrator, integrators)->capture_default_str();
   cmd->add_option("--spp", o->spp, "Samples per pixel (1 = through pixel centres)")
       ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str();
@@ -207,7 +155,8 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   cmd->add_flag("--half", o->half, "Write half-float EXR pixels instead of 32-bit float");
   cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)");
   cmd->add_option("--build-quality", o->build_quality,
-                  "BVH build quality: low | medium | high (slower to build, faster to trace)")
+                  "BVH build quality: " + enum_choices<BuildQuality>(" | ") +
+                      " (slower to build, faster to trace)")
       ->capture_default_str();
   add_sphere_detection_options(cmd, &o->sphere_detection, true);
   cmd->add_flag("--general-path", o->general_path,

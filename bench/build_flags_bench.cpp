@@ -33,7 +33,7 @@
 #include <embree3/rtcore.h>
 #include <tbb/global_control.h>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/camera.h"
 #include "renderer/image/colour.h"
 #include "renderer/render.h"
@@ -170,7 +170,7 @@ int run(int argc, char** argv) {
   }
 
   const ColourPipeline colour(WorkingSpace::linear_rec709);
-  const auto integrator = make_integrator(IntegratorKind::shadow);
+  const auto integrator = make_integrator("shadow");
   for (const std::string& path : paths) {
     SceneDescription scene = load_gltf(path);
     add_scene_defaults(&scene);

@@ -44,7 +44,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/camera.h"
 #include "renderer/image/colour.h"
 #include "renderer/geometry/embree_ray.h"
@@ -309,12 +309,12 @@ std::vector<Ray> shadow_rays(const RawScene& raw, const std::vector<Ray>& camera
     raw.surface(rh, &position, &normal);
     const V3f n = face_forward(normal, -ray.direction);
     for (const LightSource& light : lights) {
-      LightArrival arrival;
-      if (!light_arrival(light, position, &arrival)) continue;
-      if (dot(n, arrival.to_light) <= 0.0f) continue;
+      LightSample arrival;
+      if (!light.sample(position, Imath::V2f(0.0f), &arrival)) continue;
+      if (dot(n, arrival.wi) <= 0.0f) continue;
       Ray shadow;
       shadow.origin = offset_ray_origin(position, n);
-      shadow.direction = arrival.to_light;
+      shadow.direction = arrival.wi;
       shadow.tfar = arrival.distance;
       out.push_back(shadow);
     }
@@ -526,19 +526,20 @@ struct PrismRate {
 };
 
 PrismRate measure_prism(const RenderScene& scene, const Camera& camera, int width, int height,
-                        IntegratorKind kind, int threads, double min_seconds) {
+                        const char* kind, int threads, double min_seconds) {
   RenderSettings settings;
   settings.width = width;
   settings.height = height;
   settings.spp = 1;
-  settings.threads = threads;
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   const RenderContext context{scene, camera, settings};
   const std::unique_ptr<Integrator> integrator = make_integrator(kind);
   PrismRate rate;
   double seconds = 0.0, rays = 0.0;
   while (seconds < min_seconds) {
     Image image;
-    const RenderResult r = render(*integrator, context, &image);
+    RenderResult r;
+    arena.execute([&] { r = render(*integrator, context, &image); });
     seconds += r.seconds;
     rays += double(r.rays.total());
     rate.rays = r.rays;
@@ -682,9 +683,9 @@ void probe_scene(const Options& o, const std::string& path) {
       if (r1.hits != hits) std::fprintf(stderr, "probe: 1-wide hits differ from setup\n");
       for (size_t v = 0; v < variants.size(); ++v) {
         last_shadow[v] = measure_prism(*prism_scenes[v], camera, width, height,
-                                       IntegratorKind::shadow, threads, o.min_seconds);
+                                       "shadow", threads, o.min_seconds);
         last_phong[v] = measure_prism(*prism_scenes[v], camera, width, height,
-                                      IntegratorKind::phong, threads, o.min_seconds);
+                                      "phong", threads, o.min_seconds);
         shadow[v].push_back(last_shadow[v].rays_per_second);
         phong[v].push_back(last_phong[v].rays_per_second);
       }
@@ -706,8 +707,8 @@ void probe_scene(const Options& o, const std::string& path) {
           "| %s | %d | camera + shadow (%zu + %zu; Prism %llu + %llu) | %.3f | %.3f | "
           "%.3f | shadow, spheres %s | %.3f | %.3f | %.3f |\n",
           name.c_str(), threads, camera_set.size(), shadow_set.size(),
-          (unsigned long long)last_shadow[v].rays.camera,
-          (unsigned long long)last_shadow[v].rays.shadow, m1 / 1e6, m8 / 1e6, m16 / 1e6,
+          (unsigned long long)last_shadow[v].rays[RayKind::camera],
+          (unsigned long long)last_shadow[v].rays[RayKind::shadow], m1 / 1e6, m8 / 1e6, m16 / 1e6,
           variants[v].name, ms / 1e6, ms / m1, ms / m16);
     }
     for (size_t v = 0; v < variants.size(); ++v) {

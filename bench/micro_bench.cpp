@@ -22,7 +22,7 @@
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "integrators/local_shading.h"
 #include "renderer/camera.h"
 #include "renderer/image/colour.h"
@@ -315,13 +315,13 @@ void BM_ShadeLocal(benchmark::State& state) {
     V3f sum(0.0f);
     for (const PreparedHit& p : hits) {
       const SurfaceResponse surface = evaluate(s.scene->material(p.hit.material), p.hit);
-      sum += shade_local<Shadows>(context, p.hit, surface, p.to_viewer, &counters);
+      sum += shade_local<Shadows>(context, V3f(0.0f), p.hit, surface, p.to_viewer, &counters);
     }
     benchmark::DoNotOptimize(sum);
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(hits.size()));
   state.counters["shadow_rays_per_hit"] =
-      double(counters.shadow) / (double(state.iterations()) * double(hits.size()));
+      double(counters[RayKind::shadow]) / (double(state.iterations()) * double(hits.size()));
 }
 BENCHMARK(BM_ShadeLocal<false>)->Name("BM_ShadeLocal/phong");
 BENCHMARK(BM_ShadeLocal<true>)->Name("BM_ShadeLocal/shadows");
@@ -336,7 +336,7 @@ TileRect bench_tile(bool busiest) {
     const int x0 = (w / 2) & ~15, y0 = (h / 2) & ~15;
     return {x0, y0, x0 + 16, y0 + 16};
   }
-  const std::unique_ptr<Integrator> whitted = make_integrator(IntegratorKind::whitted);
+  const std::unique_ptr<Integrator> whitted = make_integrator("whitted");
   const RenderContext context{*s.scene, *s.camera, s.settings};
   Image image(w, h);
   TileRect best{0, 0, 16, 16};
@@ -355,18 +355,18 @@ TileRect bench_tile(bool busiest) {
 }
 
 // One 16x16 tile through an integrator's render_tile: ray generation, tracing, shading and
-// the image write. Arguments: integrator (IntegratorKind), tile (0 centre, 1 busiest).
+// the image write. Arguments: integrator (index in the registry), tile (0 centre, 1 busiest).
 void BM_TileLoop(benchmark::State& state) {
   const ShippedScene& s = shipped();
-  const IntegratorKind kind = IntegratorKind(state.range(0));
-  const std::unique_ptr<Integrator> integrator = make_integrator(kind);
+  const IntegratorInfo& info = *integrator_registry()[static_cast<size_t>(state.range(0))];
+  const std::unique_ptr<Integrator> integrator = configure_integrator(info).integrator;
   const RenderContext context{*s.scene, *s.camera, s.settings};
   Image image(s.settings.width, s.settings.height);
   static const TileRect centre = bench_tile(false), busiest = bench_tile(true);
   const TileRect tile = state.range(1) ? busiest : centre;
   RayCounters counters;
   for (auto _ : state) integrator->render_tile(context, tile, &image, &counters);
-  state.SetLabel(std::string(integrator->name()) + " tile (" + std::to_string(tile.x0) + "," +
+  state.SetLabel(std::string(info.name) + " tile (" + std::to_string(tile.x0) + "," +
                  std::to_string(tile.y0) + ")");
   state.SetItemsProcessed(int64_t(state.iterations()) * 256);
   state.counters["rays_per_second"] =
@@ -376,8 +376,8 @@ void BM_TileLoop(benchmark::State& state) {
 }
 BENCHMARK(BM_TileLoop)
     ->ArgNames({"integrator", "busiest"})
-    ->ArgsProduct({{int(IntegratorKind::phong), int(IntegratorKind::shadow),
-                    int(IntegratorKind::whitted)},
+    ->ArgsProduct({benchmark::CreateDenseRange(
+                       0, static_cast<int>(integrator_registry().size()) - 1, 1),
                    {0, 1}});
 
 }  // namespace

@@ -15,32 +15,32 @@ constexpr ShadingFlags direct_flags(bool shadows, bool emission) {
 }
 
 template <ShadingFlags F>
-void render_direct_tile_with(const RenderContext& context, const TileRect& tile, Image* image,
-                             RayCounters* counters) {
+void render_direct_tile_with(const RenderContext& context, const V3f& ambient, const TileRect& tile,
+                             Image* image, RayCounters* counters) {
   const auto direct_only = [](const CameraPacket&, SampleResult*, SurfaceResponse*, RayCounters*) {
   };
-  if (render_tile_queueing_shadows<F>(context, tile, image, counters, direct_only)) return;
+  if (render_tile_queueing_shadows<F>(context, ambient, tile, image, counters, direct_only)) return;
   render_tile_shading_hits(
       context, tile, image, counters, [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
         const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
-        return shade_direct<F>(context, hit, surface, -ray.direction, c);
+        return shade_direct<F>(context, ambient, hit, surface, -ray.direction, c);
       });
 }
 
 }  // namespace
 
-void render_direct_tile(const ShadingFlags& flags, const RenderContext& context,
+void render_direct_tile(const ShadingFlags& flags, const RenderContext& context, const V3f& ambient,
                         const TileRect& tile, Image* image, RayCounters* counters) {
   if (flags.shadows) {
     if (flags.emission)
-      render_direct_tile_with<direct_flags(true, true)>(context, tile, image, counters);
+      render_direct_tile_with<direct_flags(true, true)>(context, ambient, tile, image, counters);
     else
-      render_direct_tile_with<direct_flags(true, false)>(context, tile, image, counters);
+      render_direct_tile_with<direct_flags(true, false)>(context, ambient, tile, image, counters);
   } else {
     if (flags.emission)
-      render_direct_tile_with<direct_flags(false, true)>(context, tile, image, counters);
+      render_direct_tile_with<direct_flags(false, true)>(context, ambient, tile, image, counters);
     else
-      render_direct_tile_with<direct_flags(false, false)>(context, tile, image, counters);
+      render_direct_tile_with<direct_flags(false, false)>(context, ambient, tile, image, counters);
   }
 }
 

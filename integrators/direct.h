@@ -7,6 +7,7 @@
 #pragma once
 
 #include "integrators/local_shading.h"
+#include "integrators/parameters.h"
 #include "integrators/shading_flags.h"
 
 namespace prism {
@@ -15,10 +16,11 @@ namespace prism {
 // nothing emits, when it is zero) plus the local shading equation, with shadow rays as
 // F.shadows says.
 template <ShadingFlags F>
-Imath::V3f shade_direct(const RenderContext& context, const SurfaceHit& hit,
-                        const SurfaceResponse& surface, const Imath::V3f& to_viewer,
-                        RayCounters* counters) {
-  const Imath::V3f local = shade_local<F.shadows>(context, hit, surface, to_viewer, counters);
+Imath::V3f shade_direct(const RenderContext& context, const Imath::V3f& ambient,
+                        const SurfaceHit& hit, const SurfaceResponse& surface,
+                        const Imath::V3f& to_viewer, RayCounters* counters) {
+  const Imath::V3f local =
+      shade_local<F.shadows>(context, ambient, hit, surface, to_viewer, counters);
   if constexpr (F.emission)
     return surface.emission + local;
   else
@@ -28,19 +30,33 @@ Imath::V3f shade_direct(const RenderContext& context, const SurfaceHit& hit,
 // Renders a tile by direct light, shading with shade_direct under flags.shadows and
 // flags.emission: the instantiation is picked here, once per tile (direct.cpp).
 void render_direct_tile(const ShadingFlags& flags, const RenderContext& context,
-                        const TileRect& tile, Image* image, RayCounters* counters);
+                        const Imath::V3f& ambient, const TileRect& tile, Image* image,
+                        RayCounters* counters);
+
+// The parameter both direct-light integrators take, as their tables declare it.
+inline constexpr ParameterInfo kAmbientParameter{
+    "ambient",
+    ParameterType::real,
+    0.0,
+    0.0,
+    3.4e38,
+    "Ambient radiance I_a (the lecture's ambient term), scaled by each surface's albedo"};
 
 template <bool Shadows>
 class DirectLightIntegrator final : public Integrator {
  public:
-  const char* name() const override { return Shadows ? "shadow" : "phong"; }
+  explicit DirectLightIntegrator(const ParameterValues& parameters)
+      : ambient_(parameters.real("ambient")) {}
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {
     ShadingFlags flags = shading_flags(context);
     flags.shadows = flags.shadows && Shadows;
-    render_direct_tile(flags, context, tile, image, counters);
+    render_direct_tile(flags, context, ambient_, tile, image, counters);
   }
+
+ private:
+  Imath::V3f ambient_;
 };
 
 }  // namespace prism

@@ -2,17 +2,18 @@
 //
 //   I = I_a k_a + sum_i I_i k_d (L_i . N) + sum_i I_i k_s (R_i . V)^n
 //
-// in radiometric form (docs/materials.md): I_i is the irradiance a light delivers facing it,
-// k_d = rho_d / pi is glTF's Lambert BRDF and k_s (n + 2) / (2 pi) the normalised Phong lobe,
-// so the sum is reflected radiance. k_a = rho_d + k_s, the albedo the surface shows under a
-// uniform ambient radiance I_a.
+// in radiometric form (docs/materials.md): I_i is the irradiance a light delivers facing it
+// (LightSource::sample), k_d + k_s (R.V)^n the BSDF's non-delta lobes (Bsdf::eval: Lambert
+// rho_d / pi and the normalised Phong lobe), so the sum is reflected radiance. k_a = rho_d +
+// k_s, the albedo the surface shows under a uniform ambient radiance I_a (the integrator's
+// `ambient` parameter).
 #pragma once
 
 #include <cmath>
 
 #include "renderer/integrator.h"
-#include "renderer/shading/material.h"
 #include "renderer/math.h"
+#include "renderer/shading/material.h"
 
 namespace prism {
 
@@ -24,18 +25,18 @@ namespace prism {
 // left it, the ambient term to begin with. shade_local decides visibility at once; the
 // direct-light tile loop collects a packet's shadow rays first (integrators/direct.cpp).
 template <bool Shadows, typename LightFn>
-Imath::V3f shade_local_with(const RenderContext& context, const SurfaceHit& hit,
-                            const SurfaceResponse& surface, const Imath::V3f& to_viewer,
-                            LightFn&& light) {
-  const V3f n = face_forward(surface.shading_normal, to_viewer);
-  V3f radiance =
-      hadamard(context.settings.ambient, surface.diffuse_albedo + surface.specular_colour) *
-      surface.ambient_occlusion;
-  const float lobe_norm = (surface.phong_exponent + 2.0f) * (0.5f * kInvPi);
+Imath::V3f shade_local_with(const RenderContext& context, const Imath::V3f& ambient,
+                            const SurfaceHit& hit, const SurfaceResponse& surface,
+                            const Imath::V3f& to_viewer, LightFn&& light) {
+  const Bsdf& bsdf = surface.bsdf;
+  const V3f n = bsdf.normal_towards(to_viewer);
+  V3f radiance = hadamard(ambient, bsdf.lobes().diffuse_albedo + bsdf.lobes().specular_colour) *
+                 surface.ambient_occlusion;
   for (const LightSource& source : context.scene.lights()) {
-    LightArrival arrival;
-    if (!light_arrival(source, hit.position, &arrival)) continue;
-    const float cos_light = dot(n, arrival.to_light);
+    // Every light is a delta light today, whose sample needs no random numbers.
+    LightSample arrival;
+    if (!source.sample(hit.position, Imath::V2f(0.0f), &arrival)) continue;
+    const float cos_light = dot(n, arrival.wi);
     if (cos_light <= 0.0f) continue;
     Ray shadow_ray;
     if constexpr (Shadows) {
@@ -49,17 +50,11 @@ Imath::V3f shade_local_with(const RenderContext& context, const SurfaceHit& hit,
       const bool front = dot(n, hit.geometric_normal) > 0.0f;
       const V3f from = front ? hit.position + hit.terminator_offset : hit.position;
       shadow_ray.origin = offset_ray_origin(from, n, hit.surface_error);
-      shadow_ray.direction = arrival.to_light;
+      shadow_ray.direction = arrival.wi;
       shadow_ray.tfar = arrival.distance;
     }
     light(radiance, shadow_ray, [&] {
-      const V3f reflected = reflect(-arrival.to_light, n);
-      const float cos_view = std::fmax(0.0f, dot(reflected, to_viewer));
-      const float specular = surface.phong_exponent > 0.0f
-                                 ? lobe_norm * std::pow(cos_view, surface.phong_exponent)
-                                 : lobe_norm;
-      const V3f brdf = surface.diffuse_albedo * kInvPi + surface.specular_colour * specular;
-      return hadamard(brdf, arrival.irradiance) * cos_light;
+      return hadamard(bsdf.eval(to_viewer, arrival.wi, n), arrival.radiance) * cos_light;
     });
   }
   return radiance;
@@ -67,13 +62,13 @@ Imath::V3f shade_local_with(const RenderContext& context, const SurfaceHit& hit,
 
 // Shadows = true casts one shadow ray per light that faces the surface, there and then.
 template <bool Shadows>
-Imath::V3f shade_local(const RenderContext& context, const SurfaceHit& hit,
-                       const SurfaceResponse& surface, const Imath::V3f& to_viewer,
-                       RayCounters* counters) {
-  return shade_local_with<Shadows>(context, hit, surface, to_viewer,
+Imath::V3f shade_local(const RenderContext& context, const Imath::V3f& ambient,
+                       const SurfaceHit& hit, const SurfaceResponse& surface,
+                       const Imath::V3f& to_viewer, RayCounters* counters) {
+  return shade_local_with<Shadows>(context, ambient, hit, surface, to_viewer,
                                    [&](V3f& radiance, const Ray& shadow_ray, auto&& contribution) {
                                      if constexpr (Shadows) {
-                                       ++counters->shadow;
+                                       ++(*counters)[RayKind::shadow];
                                        if (context.scene.geometry().occluded(shadow_ray)) return;
                                      }
                                      radiance += contribution();

@@ -1,15 +1,26 @@
 // phong: the lecture's local shading equation (ambient + Lambert + normalised Phong) at the
 // nearest hit of each view ray, plus emission. No shadows, no secondary rays.
 //
-// Parameters: --ambient (I_a), --background. The shading itself is integrators/direct.h and
-// integrators/local_shading.h.
+// | parameter | type   | default | meaning                                        |
+// | --------- | ------ | ------- | ---------------------------------------------- |
+// | ambient   | number | 0       | ambient radiance I_a, times the surface albedo |
+//
+// The shading itself is integrators/direct.h and integrators/local_shading.h; rays that
+// leave the scene see the scene's environment (--background).
 #include "integrators/direct.h"
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 
 namespace prism {
+namespace {
 
-std::unique_ptr<Integrator> make_phong_integrator() {
-  return std::make_unique<DirectLightIntegrator</*Shadows=*/false>>();
-}
+constexpr ParameterInfo kParameters[] = {kAmbientParameter};
+
+}  // namespace
+
+extern const IntegratorInfo kPhongIntegrator{
+    "phong", "local shading at the nearest hit, no shadows", kParameters,
+    [](const ParameterValues& values) -> std::unique_ptr<Integrator> {
+      return std::make_unique<DirectLightIntegrator</*Shadows=*/false>>(values);
+    }};
 
 }  // namespace prism

@@ -4,14 +4,23 @@
 // offset_ray_origin) and ends at the light. In a scene where nothing can block a shadow ray
 // (SceneFeatures::shadows = false) it casts none and runs phong's code (shading_flags.h).
 //
-// Parameters: --ambient (I_a), --background.
+// | parameter | type   | default | meaning                                        |
+// | --------- | ------ | ------- | ---------------------------------------------- |
+// | ambient   | number | 0       | ambient radiance I_a, times the surface albedo |
 #include "integrators/direct.h"
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 
 namespace prism {
+namespace {
 
-std::unique_ptr<Integrator> make_shadow_integrator() {
-  return std::make_unique<DirectLightIntegrator</*Shadows=*/true>>();
-}
+constexpr ParameterInfo kParameters[] = {kAmbientParameter};
+
+}  // namespace
+
+extern const IntegratorInfo kShadowIntegrator{
+    "shadow", "local shading with one shadow ray per light", kParameters,
+    [](const ParameterValues& values) -> std::unique_ptr<Integrator> {
+      return std::make_unique<DirectLightIntegrator</*Shadows=*/true>>(values);
+    }};
 
 }  // namespace prism

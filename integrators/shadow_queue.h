@@ -37,7 +37,7 @@ class ShadowQueue {
     }
     for (int k = 0; k < count_; ++k)
       if (!blocked_[k]) results[lane_[k]].radiance += contribution_[k];
-    counters->shadow += static_cast<uint64_t>(count_);
+    (*counters)[RayKind::shadow] += static_cast<uint64_t>(count_);
     count_ = 0;
   }
 
@@ -54,18 +54,19 @@ class ShadowQueue {
 // background for a miss; surfaces[i] the hit's material response, for whitted's secondary
 // rays.
 template <ShadingFlags F>
-void shade_packet_direct(const RenderContext& context, const CameraPacket& p, ShadowQueue* queue,
-                         SampleResult* results, SurfaceResponse* surfaces, RayCounters* counters) {
+void shade_packet_direct(const RenderContext& context, const Imath::V3f& ambient,
+                         const CameraPacket& p, ShadowQueue* queue, SampleResult* results,
+                         SurfaceResponse* surfaces, RayCounters* counters) {
   static_assert(F.shadows);
   for (int i = 0; i < p.count; ++i) {
     if (!p.found[i]) {
-      results[i] = SampleResult{context.settings.background, false};
+      results[i] = SampleResult{context.scene.environment().radiance(p.rays[i].direction), false};
       continue;
     }
     surfaces[i] = evaluate(context.scene.material(p.hits[i].material), p.hits[i]);
     results[i].hit = true;
     results[i].radiance =
-        shade_local_with<true>(context, p.hits[i], surfaces[i], -p.rays[i].direction,
+        shade_local_with<true>(context, ambient, p.hits[i], surfaces[i], -p.rays[i].direction,
                                [&](Imath::V3f&, const Ray& shadow_ray, auto&& contribution) {
                                  queue->add(i, shadow_ray, contribution());
                                });
@@ -82,8 +83,9 @@ void shade_packet_direct(const RenderContext& context, const CameraPacket& p, Sh
 // secondary rays there), and returns true; returns false, having done nothing, when F has
 // no shadow rays or the scene has more lights than the queue takes.
 template <ShadingFlags F, typename ThenFn>
-bool render_tile_queueing_shadows(const RenderContext& context, const TileRect& tile, Image* image,
-                                  RayCounters* counters, ThenFn&& then) {
+bool render_tile_queueing_shadows(const RenderContext& context, const Imath::V3f& ambient,
+                                  const TileRect& tile, Image* image, RayCounters* counters,
+                                  ThenFn&& then) {
   if constexpr (F.shadows) {
     if (ShadowQueue::fits(context.scene.lights().size())) {
       // Per-tile scratch, not per packet: every lane that hit is overwritten before use.
@@ -91,7 +93,8 @@ bool render_tile_queueing_shadows(const RenderContext& context, const TileRect& 
       SurfaceResponse surfaces[EmbreeScene::kPacketSize];
       render_tile_packets(context, tile, image, counters,
                           [&](const CameraPacket& p, SampleResult* results, RayCounters* c) {
-                            shade_packet_direct<F>(context, p, &queue, results, surfaces, c);
+                            shade_packet_direct<F>(context, ambient, p, &queue, results, surfaces,
+                                                   c);
                             then(p, results, surfaces, c);
                           });
       return true;

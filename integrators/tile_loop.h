@@ -51,6 +51,10 @@ inline void write_pixel(const PixelSums& sums, float* out) {
 // integrator: lanes [0, count).
 struct CameraPacket {
   int count = 0;
+  // Which sample of which pixels: an integrator draws the rest of each lane's sample from
+  // PixelSampler(pixel_index[i], sample_index), dimensions 0 and 1 being the pixel position.
+  uint32_t sample_index = 0;
+  uint64_t pixel_index[EmbreeScene::kPacketSize];
   Ray rays[EmbreeScene::kPacketSize];
   SurfaceHit hits[EmbreeScene::kPacketSize];
   bool found[EmbreeScene::kPacketSize];
@@ -91,12 +95,14 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
         for (int x = bx; x < std::min(bx + kBlock, tile.x1); ++x) {
           const uint64_t index = static_cast<uint64_t>(y) * context.settings.width + x;
           if (pass.active && !pass.active[index]) continue;
+          packet.pixel_index[count] = index;
           pixels[count++] = {x, y, index, pass.sums ? pass.sums[index] : PixelSums{}};
         }
       }
       if (count == 0) continue;
       packet.count = count;
       for (int s = pass.first; s < end; ++s) {
+        packet.sample_index = static_cast<uint32_t>(s);
         for (int i = 0; i < count; ++i) {
           // One sample goes through the pixel centre (the lecture's view ray); more are
           // spread over the pixel (a box filter) by the pixel's Owen-scrambled Sobol points,
@@ -109,7 +115,7 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
                                                        static_cast<float>(pixels[i].y) + j.y);
         }
         context.scene.geometry().intersect_packet(packet.rays, count, packet.hits, packet.found);
-        counters->camera += static_cast<uint64_t>(count);
+        (*counters)[RayKind::camera] += static_cast<uint64_t>(count);
         shade_packet(packet, results, counters);
         for (int i = 0; i < count; ++i) {
           // Before sample 2^k: the sums of samples [0, 2^k), a complete (0,2)-net.
@@ -131,14 +137,16 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
 template <typename ShadeFn>
 void render_tile_shading_hits(const RenderContext& context, const TileRect& tile, Image* image,
                               RayCounters* counters, ShadeFn&& shade) {
-  render_tile_packets(context, tile, image, counters,
-                      [&](const CameraPacket& p, SampleResult* results, RayCounters* c) {
-                        for (int i = 0; i < p.count; ++i) {
-                          results[i] = p.found[i]
-                                           ? SampleResult{shade(p.rays[i], p.hits[i], c), true}
-                                           : SampleResult{context.settings.background, false};
-                        }
-                      });
+  render_tile_packets(
+      context, tile, image, counters,
+      [&](const CameraPacket& p, SampleResult* results, RayCounters* c) {
+        for (int i = 0; i < p.count; ++i) {
+          results[i] =
+              p.found[i]
+                  ? SampleResult{shade(p.rays[i], p.hits[i], c), true}
+                  : SampleResult{context.scene.environment().radiance(p.rays[i].direction), false};
+        }
+      });
 }
 
 }  // namespace prism

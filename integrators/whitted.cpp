@@ -14,19 +14,32 @@
 // transmissive it runs the shadow integrator's own code; in an opaque scene it leaves out
 // Fresnel and refraction; without occluders it casts no shadow rays.
 //
-// Parameters: --max-depth, --ambient (I_a), --background.
+// | parameter | type    | default | meaning                                          |
+// | --------- | ------- | ------- | ------------------------------------------------ |
+// | max-depth | integer | 5       | longest chain of reflection and refraction rays  |
+// | ambient   | number  | 0       | ambient radiance I_a, times the surface albedo   |
+//
+// Rays that leave the scene see the scene's environment (--background). The mirror and
+// dielectric weights are the BSDF's delta lobes (Bsdf::specular_lobes).
 #include "integrators/direct.h"
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "integrators/shadow_queue.h"
 #include "integrators/tile_loop.h"
 
 namespace prism {
 namespace {
 
-float schlick_weight(float cos_theta) {
-  const float m = std::fmax(0.0f, 1.0f - cos_theta);
-  return (m * m) * (m * m) * m;
-}
+constexpr ParameterInfo kParameters[] = {
+    {"max-depth", ParameterType::integer, 5, 0, 64,
+     "Longest chain of reflection and refraction rays"},
+    kAmbientParameter,
+};
+
+// What one render's tracer needs besides the context: the integrator's parameters.
+struct WhittedParameters {
+  int max_depth;
+  Imath::V3f ambient;
+};
 
 // The recursive tracer under flags F: without F.mirror the opaque part's mirror ray is never
 // weighed, without F.transmission neither Fresnel nor refraction is computed. The feature
@@ -34,8 +47,10 @@ float schlick_weight(float cos_theta) {
 // computes exactly what the general one does.
 template <ShadingFlags F>
 struct WhittedTracer {
-  static void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
-                          RayCounters* counters) {
+  const RenderContext& context;
+  const WhittedParameters& params;
+
+  void render_tile(const TileRect& tile, Image* image, RayCounters* counters) const {
     // The camera hits' shadow rays in packets (integrators/shadow_queue.h), then each hit's
     // reflection and refraction, one at a time: the same sums shade() forms.
     const auto secondary = [&](const CameraPacket& p, SampleResult* results,
@@ -43,73 +58,50 @@ struct WhittedTracer {
       for (int i = 0; i < p.count; ++i) {
         if (p.found[i])
           results[i].radiance =
-              add_secondary(context, p.rays[i], p.hits[i], surfaces[i], 0, results[i].radiance, c);
+              add_secondary(p.rays[i], p.hits[i], surfaces[i], 0, results[i].radiance, c);
       }
     };
-    if (render_tile_queueing_shadows<F>(context, tile, image, counters, secondary)) return;
+    if (render_tile_queueing_shadows<F>(context, params.ambient, tile, image, counters, secondary))
+      return;
     render_tile_shading_hits(context, tile, image, counters,
                              [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
-                               return shade(context, ray, hit, 0, c);
+                               return shade(ray, hit, 0, c);
                              });
   }
 
-  static V3f trace(const RenderContext& context, const Ray& ray, int depth, RayCounters* counters) {
+  V3f trace(const Ray& ray, int depth, RayCounters* counters) const {
     SurfaceHit hit;
-    if (!context.scene.geometry().intersect(ray, &hit)) return context.settings.background;
-    return shade(context, ray, hit, depth, counters);
+    if (!context.scene.geometry().intersect(ray, &hit))
+      return context.scene.environment().radiance(ray.direction);
+    return shade(ray, hit, depth, counters);
   }
 
-  static V3f shade(const RenderContext& context, const Ray& ray, const SurfaceHit& hit, int depth,
-                   RayCounters* counters) {
+  V3f shade(const Ray& ray, const SurfaceHit& hit, int depth, RayCounters* counters) const {
     const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
-    const V3f direct = shade_direct<F>(context, hit, surface, -ray.direction, counters);
-    return add_secondary(context, ray, hit, surface, depth, direct, counters);
+    const V3f direct =
+        shade_direct<F>(context, params.ambient, hit, surface, -ray.direction, counters);
+    return add_secondary(ray, hit, surface, depth, direct, counters);
   }
 
   // `radiance` (the hit's direct light) plus what its mirror reflection and refraction
   // bring, unless the chain is `depth` long already.
-  static V3f add_secondary(const RenderContext& context, const Ray& ray, const SurfaceHit& hit,
-                           const SurfaceResponse& surface, int depth, V3f radiance,
-                           RayCounters* counters) {
-    if (depth >= context.settings.max_depth) return radiance;
+  V3f add_secondary(const Ray& ray, const SurfaceHit& hit, const SurfaceResponse& surface,
+                    int depth, V3f radiance, RayCounters* counters) const {
+    if (depth >= params.max_depth) return radiance;
     const V3f to_viewer = -ray.direction;
-
-    const V3f n = face_forward(surface.shading_normal, to_viewer);
+    const V3f n = surface.bsdf.normal_towards(to_viewer);
     const V3f outside = face_forward(hit.geometric_normal, to_viewer);  // the viewer's side
-    const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(to_viewer, n)));
-
-    V3f reflect_weight(0.0f);
-    if constexpr (F.mirror) {
-      if (surface.mirror && surface.transmission < 1.0f) {
-        const V3f f0 = surface.specular_colour;
-        reflect_weight +=
-            (f0 + (V3f(1.0f) - f0) * schlick_weight(cos_i)) * (1.0f - surface.transmission);
-      }
-    }
-    if constexpr (F.transmission) {
-      if (surface.transmission > 0.0f) {
-        // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.
-        const float eta = hit.back_face ? 1.0f / surface.ior : surface.ior;
-        const float fresnel = fresnel_dielectric(cos_i, eta);
-        reflect_weight += V3f(surface.transmission * fresnel);
-        V3f refracted;
-        if (fresnel < 1.0f && refract(ray.direction, n, eta, &refracted)) {
-          Ray r;
-          r.origin = offset_ray_origin(hit.position, -outside, hit.surface_error);
-          r.direction = refracted;
-          ++counters->refraction;
-          const V3f tint = hit.back_face ? V3f(1.0f) : surface.transmission_tint;
-          radiance += hadamard(tint, trace(context, r, depth + 1, counters)) *
-                      (surface.transmission * (1.0f - fresnel));
-        }
-      }
-    }
-    if (reflect_weight.x > 0.0f || reflect_weight.y > 0.0f || reflect_weight.z > 0.0f) {
+    SpecularLobe lobes[2];
+    const int count =
+        surface.bsdf.specular_lobes<F.mirror, F.transmission>(to_viewer, n, hit.back_face, lobes);
+    for (int k = 0; k < count; ++k) {
+      const SpecularLobe& lobe = lobes[k];
       Ray r;
-      r.origin = offset_ray_origin(hit.position, outside, hit.surface_error);
-      r.direction = normalize(reflect(ray.direction, n));
-      ++counters->reflection;
-      radiance += hadamard(reflect_weight, trace(context, r, depth + 1, counters));
+      r.origin = offset_ray_origin(hit.position, lobe.transmission ? -outside : outside,
+                                   hit.surface_error);
+      r.direction = lobe.wi;
+      ++(*counters)[lobe.transmission ? RayKind::refraction : RayKind::reflection];
+      radiance += hadamard(lobe.colour, trace(r, depth + 1, counters)) * lobe.scale;
     }
     return radiance;
   }
@@ -124,32 +116,45 @@ constexpr ShadingFlags secondary_flags(bool shadows, bool transmission) {
 
 class WhittedIntegrator final : public Integrator {
  public:
-  const char* name() const override { return "whitted"; }
+  explicit WhittedIntegrator(const ParameterValues& values)
+      : params_{values.integer("max-depth"), Imath::V3f(values.real("ambient"))} {}
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {
     const ShadingFlags flags = shading_flags(context);
     // No mirror and nothing transmissive: no ray beyond the shadow rays, so whitted is the
     // shadow integrator, and runs its very code.
-    if (!flags.secondary()) return render_direct_tile(flags, context, tile, image, counters);
+    if (!flags.secondary())
+      return render_direct_tile(flags, context, params_.ambient, tile, image, counters);
     if (flags.shadows) {
       if (flags.transmission)
-        WhittedTracer<secondary_flags(true, true)>::render_tile(context, tile, image, counters);
+        run<secondary_flags(true, true)>(context, tile, image, counters);
       else
-        WhittedTracer<secondary_flags(true, false)>::render_tile(context, tile, image, counters);
+        run<secondary_flags(true, false)>(context, tile, image, counters);
     } else {
       if (flags.transmission)
-        WhittedTracer<secondary_flags(false, true)>::render_tile(context, tile, image, counters);
+        run<secondary_flags(false, true)>(context, tile, image, counters);
       else
-        WhittedTracer<secondary_flags(false, false)>::render_tile(context, tile, image, counters);
+        run<secondary_flags(false, false)>(context, tile, image, counters);
     }
   }
+
+ private:
+  template <ShadingFlags F>
+  void run(const RenderContext& context, const TileRect& tile, Image* image,
+           RayCounters* counters) const {
+    WhittedTracer<F>{context, params_}.render_tile(tile, image, counters);
+  }
+
+  WhittedParameters params_;
 };
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_whitted_integrator() {
-  return std::make_unique<WhittedIntegrator>();
-}
+extern const IntegratorInfo kWhittedIntegrator{
+    "whitted", "shadow rays plus recursive mirror reflection and refraction (Whitted, 1979)",
+    kParameters, [](const ParameterValues& values) -> std::unique_ptr<Integrator> {
+      return std::make_unique<WhittedIntegrator>(values);
+    }};
 
 }  // namespace prism

@@ -3,47 +3,62 @@
 // code is free to inline and specialise.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
+#include <span>
 
 #include <Imath/ImathVec.h>
 
 #include "renderer/camera.h"
+#include "renderer/enum_names.h"
 #include "renderer/image/image.h"
 #include "renderer/render_scene.h"
 
 namespace prism {
 
+// The kinds of ray an integrator casts, counted per render and reported by name (summary,
+// EXR metadata, compare's tables). An integrator that casts a new kind adds a row here.
+enum class RayKind : uint8_t { camera, shadow, reflection, refraction };
+inline constexpr EnumName<RayKind> kRayKindNames[] = {{RayKind::camera, "camera"},
+                                                      {RayKind::shadow, "shadow"},
+                                                      {RayKind::reflection, "reflection"},
+                                                      {RayKind::refraction, "refraction"}};
+constexpr std::span<const EnumName<RayKind>> enum_names(RayKind) {
+  return kRayKindNames;
+}
+inline constexpr size_t kRayKindCount = std::size(kRayKindNames);
+
 struct RayCounters {
-  uint64_t camera = 0;
-  uint64_t shadow = 0;
-  uint64_t reflection = 0;
-  uint64_t refraction = 0;
+  uint64_t rays[kRayKindCount] = {};
   // Not rays: samples whose radiance was NaN or infinite, left out of their pixel.
   uint64_t discarded_samples = 0;
 
-  uint64_t total() const { return camera + shadow + reflection + refraction; }
+  uint64_t& operator[](RayKind kind) { return rays[static_cast<size_t>(kind)]; }
+  uint64_t operator[](RayKind kind) const { return rays[static_cast<size_t>(kind)]; }
+  uint64_t total() const {
+    uint64_t sum = 0;
+    for (uint64_t n : rays) sum += n;
+    return sum;
+  }
   RayCounters& operator+=(const RayCounters& o) {
-    camera += o.camera;
-    shadow += o.shadow;
-    reflection += o.reflection;
-    refraction += o.refraction;
+    for (size_t k = 0; k < kRayKindCount; ++k) rays[k] += o.rays[k];
     discarded_samples += o.discarded_samples;
     return *this;
   }
 };
 
+// The film and how it is sampled: what every integrator shares. An integrator's own
+// parameters (a depth limit, an ambient term) belong to the integrator (integrators/
+// registry.h), the background to the scene (RenderScene::environment).
 struct RenderSettings {
   int width = 640;
   int height = 480;
-  int spp = 1;        // spp = 1 samples pixel centres, as the lecture's view rays do
-  int max_depth = 5;  // whitted: longest chain of reflection/refraction rays
-  int threads = 0;    // 0 = every core
+  int spp = 1;  // spp = 1 samples pixel centres, as the lecture's view rays do
   int tile_size = 16;
   // false: the integrators' general code, whatever the scene's features allow them to skip
   // (integrators/shading_flags.h); the image is the same, only slower.
   bool specialise = true;
-  Imath::V3f ambient{0.0f, 0.0f, 0.0f};     // I_a: uniform ambient radiance
-  Imath::V3f background{0.0f, 0.0f, 0.0f};  // radiance of rays that leave the scene
   // Adaptive sampling (renderer/sampling/adaptive_sampling.h, docs/sampling.md). With neither set,
   // every pixel takes exactly `spp` samples, as it always did; with either, `spp` is the
   // most a pixel takes and samples are taken in rounds.
@@ -94,7 +109,6 @@ struct RenderContext {
 class Integrator {
  public:
   virtual ~Integrator() = default;
-  virtual const char* name() const = 0;
   // Takes context.pass's samples of every pixel in `tile` and writes the mean so far as its
   // RGBA; adds the rays it cast (and the samples it discarded) to `counters`.
   virtual void render_tile(const RenderContext& context, const TileRect& tile, Image* image,

@@ -6,7 +6,6 @@
 #include <vector>
 
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "renderer/sampling/adaptive_sampling.h"
 
@@ -32,38 +31,31 @@ std::vector<TileRect> make_tiles(const RenderSettings& s) {
 // progress; times the whole render without the PassCallback's share.
 class PassRunner {
  public:
-  PassRunner(const Integrator& integrator, const RenderSettings& s, Image* image,
-             const ProgressCallback& progress)
-      : integrator_(integrator),
-        image_(image),
-        progress_(progress),
-        arena_(s.threads > 0 ? s.threads : tbb::task_arena::automatic),
-        start_(Clock::now()) {}
+  PassRunner(const Integrator& integrator, Image* image, const RenderCallbacks& callbacks)
+      : integrator_(integrator), image_(image), callbacks_(callbacks), start_(Clock::now()) {}
 
+  // Tiles run on the caller's task arena, so the thread limit is whoever owns that arena
+  // (the session: session/session.h), set once rather than here and again in the app.
   void run(const RenderContext& context, const std::vector<TileRect>& tiles) {
-    arena_.execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<size_t>(0, tiles.size(), 1),
-          [&](const tbb::blocked_range<size_t>& range) {
-            for (size_t i = range.begin(); i != range.end(); ++i) {
-              RayCounters counters;
-              integrator_.render_tile(context, tiles[i], image_, &counters);
-              camera_ += counters.camera;
-              shadow_ += counters.shadow;
-              reflection_ += counters.reflection;
-              refraction_ += counters.refraction;
-              discarded_ += counters.discarded_samples;
-              report(++done_);
-            }
-          },
-          tbb::simple_partitioner());
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, tiles.size(), 1),
+        [&](const tbb::blocked_range<size_t>& range) {
+          for (size_t i = range.begin(); i != range.end(); ++i) {
+            if (cancelled()) return;
+            RayCounters counters;
+            integrator_.render_tile(context, tiles[i], image_, &counters);
+            for (size_t k = 0; k < kRayKindCount; ++k) rays_[k] += counters.rays[k];
+            discarded_ += counters.discarded_samples;
+            report(++done_);
+          }
+        },
+        tbb::simple_partitioner());
   }
 
-  // Work that runs in the same arena (so within the thread limit) without tiles.
-  template <typename F>
-  void execute(F&& f) {
-    arena_.execute(std::forward<F>(f));
+  // Sticky: once the callback has said so, every later tile and round is skipped.
+  bool cancelled() {
+    if (!cancelled_ && callbacks_.cancel && callbacks_.cancel()) cancelled_ = true;
+    return cancelled_;
   }
 
   void set_total(int total) { total_ = total; }
@@ -84,26 +76,23 @@ class PassRunner {
 
   RayCounters rays() const {
     RayCounters r;
-    r.camera = camera_.load();
-    r.shadow = shadow_.load();
-    r.reflection = reflection_.load();
-    r.refraction = refraction_.load();
+    for (size_t k = 0; k < kRayKindCount; ++k) r.rays[k] = rays_[k].load();
     r.discarded_samples = discarded_.load();
     return r;
   }
 
  private:
   void report(int done) {
-    if (progress_) progress_(done, total_);
+    if (callbacks_.progress) callbacks_.progress(done, total_);
   }
 
   const Integrator& integrator_;
   Image* image_;
-  const ProgressCallback& progress_;
-  tbb::task_arena arena_;
+  const RenderCallbacks& callbacks_;
   const Clock::time_point start_;
   Clock::duration callback_time_{};
-  std::atomic<uint64_t> camera_{0}, shadow_{0}, reflection_{0}, refraction_{0}, discarded_{0};
+  std::atomic<uint64_t> rays_[kRayKindCount] = {}, discarded_{0};
+  std::atomic<bool> cancelled_{false};
   std::atomic<int> done_{0}, total_{0};
 };
 
@@ -118,9 +107,11 @@ RenderResult render_uniform(const RenderContext& context, const std::vector<Tile
     RenderContext pass_context = context;
     if (after_pass) pass_context.pass = SamplePass{pass, pass + 1, sums.data()};
     runner->run(pass_context, tiles);
+    if (runner->cancelled()) break;
     if (after_pass) runner->call(after_pass, pass + 1, *image);
   }
   RenderResult result;
+  result.cancelled = runner->cancelled();
   result.seconds = runner->seconds();
   result.rays = runner->rays();
   return result;
@@ -150,6 +141,7 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
     round_context.pass = SamplePass{done, end, sums.data(), active.data(), first_half.data()};
     runner->skip(static_cast<int>(tiles.size() - round_tiles.size()));
     runner->run(round_context, round_tiles);
+    if (runner->cancelled()) break;
     done = end;
     ++result.rounds;
     if (after_pass) runner->call(after_pass, done, *image);
@@ -162,7 +154,7 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
       size_t still_active = 0;
       // Pixels that stop record their count here; the rest get theirs after the last round,
       // so no round walks the whole image for it.
-      runner->execute([&] {
+      {
         still_active = update_active_pixels(s.width, s.height, sums.data(), first_half.data(),
                                             s.target_error, static_cast<uint32_t>(done), &error,
                                             active.data(), samples.data());
@@ -174,7 +166,7 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
             for (int x = t.x0; x < t.x1 && !tile_active[k]; ++x)
               tile_active[k] = active[static_cast<size_t>(y) * s.width + x];
         });
-      });
+      }
       if (still_active == 0) break;
       size_t kept = 0;
       for (size_t k = 0; k < round_tiles.size(); ++k)
@@ -184,7 +176,8 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
   }
   for (size_t i = 0; i < pixels; ++i)
     if (active[i]) samples[i] = static_cast<uint32_t>(done);
-  runner->finish();
+  result.cancelled = runner->cancelled();
+  if (!result.cancelled) runner->finish();
   result.seconds = runner->seconds();
   result.rays = runner->rays();
   result.samples_per_pixel = std::move(samples);
@@ -194,13 +187,13 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
 }  // namespace
 
 RenderResult render(const Integrator& integrator, const RenderContext& context, Image* image,
-                    const ProgressCallback& progress, const PassCallback& after_pass) {
+                    const RenderCallbacks& callbacks) {
   const RenderSettings& s = context.settings;
   *image = Image(s.width, s.height);
   const std::vector<TileRect> tiles = make_tiles(s);
-  PassRunner runner(integrator, s, image, progress);
-  return s.adaptive() ? render_adaptive(context, tiles, &runner, image, after_pass)
-                      : render_uniform(context, tiles, &runner, image, after_pass);
+  PassRunner runner(integrator, image, callbacks);
+  return s.adaptive() ? render_adaptive(context, tiles, &runner, image, callbacks.after_pass)
+                      : render_uniform(context, tiles, &runner, image, callbacks.after_pass);
 }
 
 }  // namespace prism

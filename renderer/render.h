@@ -16,11 +16,13 @@ struct RenderResult {
   // Adaptive renders (settings.adaptive()) only; a uniform render leaves them empty or 0.
   int rounds = 0;
   bool time_limit_reached = false;
+  // RenderCallbacks::cancel said stop: the image holds what the finished tiles wrote.
+  bool cancelled = false;
   std::vector<uint32_t> samples_per_pixel;  // row-major: the samples each pixel took
 
   // Samples per pixel taken, over the whole image (one camera ray per sample).
   double mean_spp(const RenderSettings& settings) const {
-    return static_cast<double>(rays.camera) /
+    return static_cast<double>(rays[RayKind::camera]) /
            (static_cast<double>(settings.width) * settings.height);
   }
 };
@@ -32,17 +34,28 @@ using ProgressCallback = std::function<void(int tiles_done, int tiles_total)>;
 // the image of their means.
 using PassCallback = std::function<void(int samples_done, const Image& image)>;
 
-// With `after_pass`, the image is rendered in settings.spp passes, pass k taking sample k of
-// every pixel, and `after_pass` sees each intermediate image (e.g. to measure convergence).
-// The final image is bit-identical to a single-pass render: each pixel adds the same samples
-// in the same order and divides once at the end.
+struct RenderCallbacks {
+  ProgressCallback progress;
+  PassCallback after_pass;
+  // Polled before each tile, possibly from several threads at once; true stops the render
+  // (RenderResult::cancelled).
+  std::function<bool()> cancel;
+};
+
+// Runs on the calling thread's task arena: the caller sets the thread limit by running it
+// inside a tbb::task_arena (session/session.h does).
+//
+// With `callbacks.after_pass`, the image is rendered in settings.spp passes, pass k taking sample k
+// of every pixel, and `callbacks.after_pass` sees each intermediate image (e.g. to measure
+// convergence). The final image is bit-identical to a single-pass render: each pixel adds the same
+// samples in the same order and divides once at the end.
 //
 // When settings.adaptive(), samples are taken in rounds (renderer/sampling/adaptive_sampling.h):
 // after each, pixels whose neighbourhood has converged below settings.target_error stop, and
-// once settings.time_limit_seconds has passed no new round starts. `after_pass` then sees the
-// image after each round, with the most samples any pixel has taken; `progress` counts tiles
-// against the rounds a render to settings.spp would need.
+// once settings.time_limit_seconds has passed no new round starts. `callbacks.after_pass` then sees
+// the image after each round, with the most samples any pixel has taken; `callbacks.progress`
+// counts tiles against the rounds a render to settings.spp would need.
 RenderResult render(const Integrator& integrator, const RenderContext& context, Image* image,
-                    const ProgressCallback& progress = {}, const PassCallback& after_pass = {});
+                    const RenderCallbacks& callbacks = {});
 
 }  // namespace prism

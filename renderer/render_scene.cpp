@@ -1,5 +1,7 @@
 #include "renderer/render_scene.h"
 
+#include <cmath>
+
 #include "renderer/image/colour.h"
 
 namespace prism {
@@ -18,18 +20,23 @@ std::vector<Material> make_materials(const SceneDescription& scene,
 }  // namespace
 
 RenderScene::RenderScene(const SceneDescription& scene, const GeometryOptions& options,
-                         const ColourPipeline& colour)
+                         const ColourPipeline& colour, const Environment& environment)
     : textures_(make_textures(scene.textures, colour)),
       materials_(make_materials(scene, textures_, colour)),
       default_material_(make_material(MaterialDescription{}, textures_, colour)),
       geometry_(scene, options, materials_),
+      environment_(environment),
       features_(derive_scene_features(scene, options.spheres)) {
   lights_.reserve(scene.lights.size());
   for (Light light : scene.lights) {
     // Into the geometry's shifted frame, in double (embree_scene.h).
     light.position -= geometry_.world_origin();
-    lights_.push_back(make_light_source(light, colour));
+    lights_.emplace_back(light, colour);
   }
+  // A sphere around the geometry sizes directional lights' power for the light sampler.
+  const Imath::Box3f bounds = geometry_.bounds();
+  const float radius = bounds.isEmpty() ? 1.0f : 0.5f * (bounds.max - bounds.min).length();
+  light_sampler_ = LightSampler(lights_, std::isfinite(radius) && radius > 0.0f ? radius : 1.0f);
 }
 
 }  // namespace prism

@@ -9,9 +9,11 @@
 
 #include "renderer/camera.h"
 #include "renderer/geometry/embree_scene.h"
+#include "renderer/scene_features.h"
+#include "renderer/shading/environment.h"
+#include "renderer/shading/light_sampler.h"
 #include "renderer/shading/lights.h"
 #include "renderer/shading/material.h"
-#include "renderer/scene_features.h"
 #include "renderer/shading/texture.h"
 
 namespace prism {
@@ -21,7 +23,7 @@ class ColourPipeline;
 class RenderScene {
  public:
   RenderScene(const SceneDescription& scene, const GeometryOptions& options,
-              const ColourPipeline& colour);
+              const ColourPipeline& colour, const Environment& environment = {});
 
   const EmbreeScene& geometry() const { return geometry_; }
   // A camera whose rays live in the same shifted frame as the geometry and lights.
@@ -29,6 +31,10 @@ class RenderScene {
     return Camera(description, image_width, image_height, geometry_.world_origin());
   }
   const std::vector<LightSource>& lights() const { return lights_; }
+  // Chooses a light in proportion to its power, for integrators that sample one light per
+  // hit instead of visiting them all (renderer/shading/light_sampler.h).
+  const LightSampler& light_sampler() const { return light_sampler_; }
+  const Environment& environment() const { return environment_; }
   // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
   const Material& material(int index) const {
     return index >= 0 && index < static_cast<int>(materials_.size()) ? materials_[index]
@@ -47,6 +53,8 @@ class RenderScene {
   Material default_material_;
   EmbreeScene geometry_;
   std::vector<LightSource> lights_;
+  LightSampler light_sampler_;
+  Environment environment_;
   SceneFeatures features_;
 };
 

@@ -14,6 +14,8 @@
 #include <Imath/ImathMatrix.h>
 #include <Imath/ImathVec.h>
 
+#include "renderer/enum_names.h"
+
 namespace prism {
 
 using Imath::C3f;
@@ -27,6 +29,13 @@ using Imath::V3f;
 enum class TextureEncoding { srgb, linear_data };
 
 enum class TextureWrap { repeat, clamp_to_edge, mirrored_repeat };
+inline constexpr EnumName<TextureWrap> kTextureWrapNames[] = {
+    {TextureWrap::repeat, "repeat"},
+    {TextureWrap::clamp_to_edge, "clamp-to-edge"},
+    {TextureWrap::mirrored_repeat, "mirrored-repeat"}};
+constexpr std::span<const EnumName<TextureWrap>> enum_names(TextureWrap) {
+  return kTextureWrapNames;
+}
 
 // glTF's magFilter, and minFilter's filter within one mip level.
 enum class TextureFilter { nearest, linear };
@@ -133,6 +142,12 @@ struct Sphere {
 };
 
 enum class LightType { directional, point, spot };
+inline constexpr EnumName<LightType> kLightTypeNames[] = {{LightType::directional, "directional"},
+                                                          {LightType::point, "point"},
+                                                          {LightType::spot, "spot"}};
+constexpr std::span<const EnumName<LightType>> enum_names(LightType) {
+  return kLightTypeNames;
+}
 
 // KHR_lights_punctual in glTF units: point and spot intensity in candela (W/sr for us),
 // directional in lux (W/m^2). Position and direction are in world space.

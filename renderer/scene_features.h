@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "renderer/scene_description.h"
 #include "renderer/geometry/sphere_geometry.h"
+#include "renderer/scene_description.h"
 
 namespace prism {
 

@@ -1,5 +1,7 @@
 #include "scene_passes/sphere_detection.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -289,6 +291,15 @@ std::vector<SphereCandidate> replace_sphere_meshes(SceneDescription* scene,
   for (auto it = replaced.rbegin(); it != replaced.rend(); ++it)
     scene->instances.erase(scene->instances.begin() + static_cast<std::ptrdiff_t>(it->instance));
   return replaced;
+}
+
+std::string describe_sphere_candidate(const SceneDescription& scene, const SphereCandidate& c) {
+  const std::string& mesh = scene.meshes[static_cast<size_t>(c.mesh)].name;
+  const std::string& node = scene.instances[c.instance].node_name;
+  char numbers[160];
+  std::snprintf(numbers, sizeof numbers, ": centre (%.6g, %.6g, %.6g), radius %.6g, deviation %.3g",
+                c.centre.x, c.centre.y, c.centre.z, c.radius, c.deviation);
+  return "mesh [" + std::to_string(c.mesh) + "] '" + mesh + "' (node '" + node + "')" + numbers;
 }
 
 const char* to_string(SphereReplaceBlocker blocker) {

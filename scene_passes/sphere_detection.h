@@ -64,4 +64,8 @@ std::vector<SphereCandidate> replace_sphere_meshes(SceneDescription* scene,
 // "several materials", ... for messages; "" for none.
 const char* to_string(SphereReplaceBlocker blocker);
 
+// "mesh [2] 'Ball' (node 'Ball'): centre (x, y, z), radius r, deviation d", as info and render
+// print a candidate.
+std::string describe_sphere_candidate(const SceneDescription& scene, const SphereCandidate& c);
+
 }  // namespace prism

@@ -8,7 +8,7 @@
 #include <numbers>
 #include <vector>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/sampling/adaptive_sampling.h"
 #include "renderer/image/image_metrics.h"
 #include "tests/test_scenes.h"
@@ -137,12 +137,12 @@ TEST(AdaptiveSampling, NeighboursKeepSamplingWhileHalfAPixelsErrorIsAboveTheTarg
 }
 
 TEST(AdaptiveSampling, FlatRegionsStopAtTheMinimumAndEdgesKeepSampling) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = kSize;
   settings.spp = 256;
   settings.min_spp = 16;
   settings.target_error = 0.01f;
-  const auto phong = make_integrator(IntegratorKind::phong);
+  const auto phong = make_integrator("phong");
   const auto r = render_scene(emissive_disc_scene(), *phong, settings);
   ASSERT_EQ(static_cast<size_t>(kSize * kSize), r.result.samples_per_pixel.size());
   int flat = 0, edge = 0;
@@ -171,7 +171,7 @@ TEST(AdaptiveSampling, FlatRegionsStopAtTheMinimumAndEdgesKeepSampling) {
   // Camera rays are the samples: the counter and the per-pixel counts agree.
   uint64_t total = 0;
   for (uint32_t n : r.result.samples_per_pixel) total += n;
-  EXPECT_EQ(total, r.result.rays.camera);
+  EXPECT_EQ(total, r.result.rays[RayKind::camera]);
 }
 
 // The RMS over pixels of (a - b) / sqrt(b^2 + 0.01), b the reference: what --target-error
@@ -194,8 +194,8 @@ double relative_rms(const Image& a, const Image& b, bool edge_only) {
 
 TEST(AdaptiveSampling, TargetErrorIsMetAgainstAHighSppReference) {
   const SceneDescription scene = lit_disc_scene();
-  const auto phong = make_integrator(IntegratorKind::phong);
-  RenderSettings settings;
+  const auto phong = make_integrator("phong");
+  testing::TestSettings settings;
   settings.width = settings.height = kSize;
   settings.background = Imath::V3f(0.5f);
   // Stratified: at 2048 spp the silhouette's coverage error is ~1e-3 per pixel, under a
@@ -223,8 +223,8 @@ TEST(AdaptiveSampling, TargetErrorIsMetAgainstAHighSppReference) {
 
 TEST(AdaptiveSampling, BitIdenticalForAnyThreadCountAndTileSize) {
   const SceneDescription scene = lit_disc_scene();
-  const auto whitted = make_integrator(IntegratorKind::whitted);
-  RenderSettings settings;
+  const auto whitted = make_integrator("whitted");
+  testing::TestSettings settings;
   settings.width = 97;
   settings.height = 61;
   settings.spp = 128;
@@ -242,7 +242,7 @@ TEST(AdaptiveSampling, BitIdenticalForAnyThreadCountAndTileSize) {
   EXPECT_EQ(one.result.samples_per_pixel, two.result.samples_per_pixel);
   EXPECT_EQ(one.result.rays.total(), two.result.rays.total());
   EXPECT_EQ(one.result.rounds, two.result.rounds);
-  EXPECT_LT(one.result.rays.camera, static_cast<uint64_t>(97 * 61 * 128));
+  EXPECT_LT(one.result.rays[RayKind::camera], static_cast<uint64_t>(97 * 61 * 128));
 }
 
 // Rounds take the same samples in the same order as one pass: with nothing converging
@@ -250,8 +250,8 @@ TEST(AdaptiveSampling, BitIdenticalForAnyThreadCountAndTileSize) {
 // bit-identical to the uniform render, which is the same call the tile loop always made.
 TEST(AdaptiveSampling, RoundsWithoutDecisionsGiveTheUniformImage) {
   const SceneDescription scene = lit_disc_scene();
-  const auto whitted = make_integrator(IntegratorKind::whitted);
-  RenderSettings settings;
+  const auto whitted = make_integrator("whitted");
+  testing::TestSettings settings;
   settings.width = 45;
   settings.height = 37;
   settings.spp = 100;
@@ -283,22 +283,22 @@ TEST(AdaptiveSampling, RoundsWithoutDecisionsGiveTheUniformImage) {
 }
 
 TEST(AdaptiveSampling, TimeLimitStopsAfterTheRoundInProgress) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = kSize;
   settings.spp = 256;
   settings.min_spp = 8;
   settings.time_limit_seconds = 1e-9;  // passed before the first round ends
-  const auto phong = make_integrator(IntegratorKind::phong);
+  const auto phong = make_integrator("phong");
   const auto r = render_scene(emissive_disc_scene(), *phong, settings);
   EXPECT_TRUE(r.result.time_limit_reached);
   EXPECT_EQ(1, r.result.rounds);
-  EXPECT_EQ(static_cast<uint64_t>(kSize * kSize * 8), r.result.rays.camera);
+  EXPECT_EQ(static_cast<uint64_t>(kSize * kSize * 8), r.result.rays[RayKind::camera]);
 }
 
 // The pass callback (--reference) sees the image after every round.
 TEST(AdaptiveSampling, PassCallbackSeesEveryRound) {
   const SceneDescription scene = emissive_disc_scene();
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = kSize;
   settings.spp = 64;
   settings.min_spp = 16;
@@ -306,11 +306,13 @@ TEST(AdaptiveSampling, PassCallbackSeesEveryRound) {
   const ColourPipeline colour(WorkingSpace::linear_rec709);
   const RenderScene prepared(scene, GeometryOptions{}, colour);
   const Camera camera = prepared.camera(scene.cameras[0], settings.width, settings.height);
-  const auto phong = make_integrator(IntegratorKind::phong);
+  const auto phong = make_integrator("phong");
   std::vector<int> seen;
   Image with_callback, without;
-  const RenderResult r = render(*phong, RenderContext{prepared, camera, settings}, &with_callback,
-                                {}, [&](int samples, const Image&) { seen.push_back(samples); });
+  RenderCallbacks callbacks;
+  callbacks.after_pass = [&](int samples, const Image&) { seen.push_back(samples); };
+  const RenderResult r =
+      render(*phong, RenderContext{prepared, camera, settings}, &with_callback, callbacks);
   render(*phong, RenderContext{prepared, camera, settings}, &without);
   EXPECT_EQ(static_cast<size_t>(r.rounds), seen.size());
   ASSERT_FALSE(seen.empty());

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/geometry/alpha_filter.h"
 #include "renderer/image/colour.h"
 #include "renderer/geometry/embree_scene.h"
@@ -139,9 +139,9 @@ SceneDescription masked_square_over_ground() {
 
 TEST(AlphaModes, MaskCutsTheShadowToTheOpaqueHalf) {
   const SceneDescription scene = masked_square_over_ground();
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 200;  // 2 cm pixels over [-2, 2]^2
-  const auto shadow = make_shadow_integrator();
+  const auto shadow = make_integrator("shadow");
   const Image image = render_scene(scene, *shadow, settings).image;
   // Pixel centres sit at odd multiples of 1 cm, never on the shadow's edges (x = 1, 1.5,
   // z = +-0.5), so counting centres measures the area exactly: 25 x 50 pixels = 0.5 m^2.
@@ -161,9 +161,9 @@ TEST(AlphaModes, MaskCutsTheShadowToTheOpaqueHalf) {
 
 TEST(AlphaModes, CameraRaysSeeThroughTheCutHalf) {
   const SceneDescription scene = masked_square_over_ground();
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 200;
-  const auto shadow = make_shadow_integrator();
+  const auto shadow = make_integrator("shadow");
   const Image image = render_scene(scene, *shadow, settings).image;
   const float ground = image.pixel(20, 100)[0];
   // The square's top (rho 0.8) and the ground (rho 0.5) face the same sun: 0.8 / 0.5 of it.
@@ -357,8 +357,8 @@ TEST(AlphaModes, BlendConvergesToTheAlphaBlendedValue) {
   // error must match the binomial sd within 20% (1024 pixels estimate it to about 2%):
   // neither correlated decisions (larger) nor a fixed dither (smaller) pass.
   const SceneDescription scene = blend_square(0.25f);
-  const auto phong = make_phong_integrator();
-  RenderSettings settings;
+  const auto phong = make_integrator("phong");
+  testing::TestSettings settings;
   settings.width = settings.height = 32;
   settings.background = V3f(0.2f);
   const double expected = 0.25 * 1.0 + 0.75 * 0.2;
@@ -437,11 +437,11 @@ TEST(AlphaModes, ImagesAreIdenticalForAnyThreadCount) {
   glass.alpha = 0.4f;
   scene.materials.push_back(glass);
   place(&scene, add_mesh(&scene, square(0.6f, 1.5f, 2, -0.5f, 0.0f)));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 64;
   settings.spp = 8;
   settings.tile_size = 8;
-  const auto whitted = make_whitted_integrator();
+  const auto whitted = make_integrator("whitted");
   settings.threads = 1;
   const Image one = render_scene(scene, *whitted, settings).image;
   settings.threads = 3;

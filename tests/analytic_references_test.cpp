@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/math.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "scene_io/gltf_loader.h"
@@ -44,12 +44,12 @@ TEST(AnalyticReference, FurnaceIsExactlyOneHalfInEverySphereMode) {
   SceneDescription scene = load_gltf(PRISM_SOURCE_DIR "/scenes/furnace.gltf");
   ASSERT_EQ(scene.spheres.size(), 1u);
   ASSERT_EQ(scene.lights.size(), 1u);
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 64;
-  for (IntegratorKind kind :
-       {IntegratorKind::phong, IntegratorKind::shadow, IntegratorKind::whitted}) {
+  for (const char* kind :
+       {"phong", "shadow", "whitted"}) {
     for (const char* mode : {"analytic", "embree-points", "mesh:4"}) {
-      SCOPED_TRACE(std::string(to_string(kind)) + " " + mode);
+      SCOPED_TRACE(std::string(std::string(kind)) + " " + mode);
       GeometryOptions options;
       ASSERT_TRUE(parse_sphere_options(mode, &options.spheres, nullptr));
       const auto r = render_scene(scene, *make_integrator(kind), settings, options);
@@ -66,7 +66,7 @@ TEST(AnalyticReference, FurnaceIsExactlyOneHalfInEverySphereMode) {
       for (size_t i = 0; i < r.image.rgba.size(); i += 4)
         for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(r.image.rgba[i + c] - 0.5));
       EXPECT_LE(worst, tolerance);
-      std::printf("furnace %-8s %-14s max |L - 0.5| = %.3g (bound %.3g)\n", to_string(kind), mode,
+      std::printf("furnace %-8s %-14s max |L - 0.5| = %.3g (bound %.3g)\n", kind, mode,
                   worst, tolerance);
     }
   }
@@ -82,7 +82,7 @@ TEST(AnalyticReference, DiscAreaConvergesToPiRSquared) {
   scene.materials.push_back(testing::lambert_like(0.5f));
   scene.spheres.push_back(Sphere{V3d(0.0), 1.0, 0, "ball"});
   scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.25));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 101;
   const double r_pixels = 101.0 / 2.5;
   const double area = std::numbers::pi * r_pixels * r_pixels;
@@ -90,7 +90,7 @@ TEST(AnalyticReference, DiscAreaConvergesToPiRSquared) {
   double first_error = 0.0;
   for (int spp : {1, 16, 64, 256}) {
     settings.spp = spp;
-    const auto r = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
+    const auto r = render_scene(scene, "phong", settings);
     double covered = 0.0;
     for (size_t i = 3; i < r.image.rgba.size(); i += 4) covered += r.image.rgba[i];
     const double error = std::fabs(covered - area);
@@ -145,9 +145,9 @@ TEST(AnalyticReference, MirrorSphereReflectsTheEnvironmentItFaces) {
     }
   }
   scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.0));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 64;
-  const auto r = render_scene(scene, *make_integrator(IntegratorKind::whitted), settings);
+  const auto r = render_scene(scene, "whitted", settings);
   int checked = 0;
   for (int y = 0; y < 64; ++y) {
     for (int x = 0; x < 64; ++x) {

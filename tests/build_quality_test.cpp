@@ -12,7 +12,7 @@
 
 #include <tbb/global_control.h>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/camera.h"
 #include "scene_passes/scene_defaults.h"
 #include "scene_io/gltf_loader.h"
@@ -33,11 +33,11 @@ SceneDescription engine() {
 }
 
 testing::Rendered render_shadow(const SceneDescription& scene, const GeometryOptions& options) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = 160;
   settings.height = 120;
   settings.spp = 1;
-  return testing::render_scene(scene, *make_integrator(IntegratorKind::shadow), settings, options);
+  return testing::render_scene(scene, "shadow", settings, options);
 }
 
 // The geometry as `prism render` places it: rebased on the camera.
@@ -59,12 +59,12 @@ size_t hit_pixels(const Image& image) {
 TEST(BuildQuality, ParsesItsThreeNamesAndNothingElse) {
   for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
     BuildQuality parsed = q == BuildQuality::low ? BuildQuality::high : BuildQuality::low;
-    EXPECT_TRUE(parse_build_quality(to_string(q), &parsed)) << to_string(q);
+    EXPECT_TRUE(parse_enum(to_string(q), &parsed)) << to_string(q);
     EXPECT_EQ(parsed, q);
   }
   BuildQuality untouched = BuildQuality::medium;
   for (const char* bad : {"", "High", "best", "high ", "2"}) {
-    EXPECT_FALSE(parse_build_quality(bad, &untouched)) << '"' << bad << '"';
+    EXPECT_FALSE(parse_enum(bad, &untouched)) << '"' << bad << '"';
     EXPECT_EQ(untouched, BuildQuality::medium);
   }
 }
@@ -85,7 +85,7 @@ TEST(BuildQuality, EveryQualityAndLayoutGivesTheSameImage) {
       const testing::Rendered r = render_shadow(scene, options_for(scene, q, compact));
       EXPECT_TRUE(r.image.rgba == reference.image.rgba)
           << to_string(q) << (compact ? " compact" : "");
-      EXPECT_EQ(r.result.rays.shadow, reference.result.rays.shadow) << to_string(q);
+      EXPECT_EQ(r.result.rays[RayKind::shadow], reference.result.rays[RayKind::shadow]) << to_string(q);
     }
 }
 

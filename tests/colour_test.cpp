@@ -128,12 +128,12 @@ TEST(WorkingSpace, NamesRoundTrip) {
   EXPECT_STREQ(to_string(WorkingSpace::linear_rec709), "linear-rec709");
   EXPECT_STREQ(to_string(WorkingSpace::acescg), "acescg");
   WorkingSpace space = WorkingSpace::linear_rec709;
-  ASSERT_TRUE(parse_working_space("acescg", &space));
+  ASSERT_TRUE(parse_enum("acescg", &space));
   EXPECT_EQ(space, WorkingSpace::acescg);
-  ASSERT_TRUE(parse_working_space("linear-rec709", &space));
+  ASSERT_TRUE(parse_enum("linear-rec709", &space));
   EXPECT_EQ(space, WorkingSpace::linear_rec709);
-  EXPECT_FALSE(parse_working_space("srgb", &space));
-  EXPECT_FALSE(parse_working_space("", &space));
+  EXPECT_FALSE(parse_enum("srgb", &space));
+  EXPECT_FALSE(parse_enum("", &space));
   EXPECT_EQ(space, WorkingSpace::linear_rec709);
 }
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "tests/test_scenes.h"
 
 namespace fs = std::filesystem;
@@ -239,15 +239,15 @@ TEST(RenderPasses, FinalImageIsBitIdenticalToOnePass) {
   sun.direction = V3d(0.3, -1.0, -0.2);
   scene.lights.push_back(sun);
   scene.cameras.push_back(testing::ortho_camera_looking_down_z(5.0, 1.3));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = 37;
   settings.height = 23;
   settings.spp = 5;
   settings.tile_size = 8;
   settings.threads = 2;
-  for (IntegratorKind kind : {IntegratorKind::phong, IntegratorKind::whitted}) {
+  for (const char* kind : {"phong", "whitted"}) {
     const auto integrator = make_integrator(kind);
-    SCOPED_TRACE(integrator->name());
+    SCOPED_TRACE(kind);
     const testing::Rendered plain = testing::render_scene(scene, *integrator, settings);
 
     const ColourPipeline colour(WorkingSpace::linear_rec709);
@@ -259,8 +259,8 @@ TEST(RenderPasses, FinalImageIsBitIdenticalToOnePass) {
     std::vector<float> last_seen;
     int first_pass_fractional_alpha = 0, first_pass_covered = 0;
     Image passed;
-    const RenderResult result = render(*integrator, RenderContext{render_scene, camera, settings},
-                                       &passed, {}, [&](int samples, const Image& image) {
+    RenderCallbacks callbacks;
+    callbacks.after_pass = [&](int samples, const Image& image) {
                                          samples_seen.push_back(samples);
                                          last_seen = image.rgba;
                                          if (samples != 1) return;
@@ -269,13 +269,15 @@ TEST(RenderPasses, FinalImageIsBitIdenticalToOnePass) {
                                            first_pass_fractional_alpha +=
                                                image.rgba[i] != 0.0f && image.rgba[i] != 1.0f;
                                          }
-                                       });
+    };
+    const RenderResult result = render(*integrator, RenderContext{render_scene, camera, settings},
+                                       &passed, callbacks);
     EXPECT_EQ(samples_seen, (std::vector<int>{1, 2, 3, 4, 5}));
     ASSERT_EQ(passed.rgba.size(), plain.image.rgba.size());
     EXPECT_EQ(0, std::memcmp(passed.rgba.data(), plain.image.rgba.data(),
                              passed.rgba.size() * sizeof(float)));
     EXPECT_EQ(last_seen, passed.rgba);
-    EXPECT_EQ(result.rays.camera, plain.result.rays.camera);
+    EXPECT_EQ(result.rays[RayKind::camera], plain.result.rays[RayKind::camera]);
     EXPECT_EQ(result.rays.total(), plain.result.rays.total());
     // After one pass a pixel is covered or not: alpha is 0 or 1, never a fraction.
     EXPECT_EQ(first_pass_fractional_alpha, 0);

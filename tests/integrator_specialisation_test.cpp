@@ -1,12 +1,12 @@
 // The integrators specialised on the scene's feature set (integrators/shading_flags.h): the
 // rays they skip, counted exactly, and the image, which must be bit-identical to the general
-// code's (RenderSettings::specialise = false). Each skipped kind of ray is also shown to be
+// code's (testing::TestSettings::specialise = false). Each skipped kind of ray is also shown to be
 // cast by the general code on the same scene, so the counts could fail.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "scene_passes/scene_defaults.h"
 #include "renderer/scene_features.h"
 #include "tests/test_scenes.h"
@@ -105,17 +105,16 @@ struct Renders {
   testing::Rendered specialised, general;
 };
 
-Renders render_both(const SceneDescription& scene, IntegratorKind kind) {
-  RenderSettings settings;
+Renders render_both(const SceneDescription& scene, const char* kind) {
+  testing::TestSettings settings;
   settings.width = 64;
   settings.height = 48;
-  settings.ambient = V3f(0.05f);
+  settings.ambient = 0.05f;
   settings.background = V3f(0.1f, 0.2f, 0.3f);
-  const std::unique_ptr<Integrator> integrator = make_integrator(kind);
   Renders r;
-  r.specialised = testing::render_scene(scene, *integrator, settings);
+  r.specialised = testing::render_scene(scene, kind, settings);
   settings.specialise = false;
-  r.general = testing::render_scene(scene, *integrator, settings);
+  r.general = testing::render_scene(scene, kind, settings);
   return r;
 }
 
@@ -126,10 +125,10 @@ void expect_same_bits(const Image& a, const Image& b) {
 }
 
 void expect_same_rays(const RayCounters& a, const RayCounters& b) {
-  EXPECT_EQ(a.camera, b.camera);
-  EXPECT_EQ(a.shadow, b.shadow);
-  EXPECT_EQ(a.reflection, b.reflection);
-  EXPECT_EQ(a.refraction, b.refraction);
+  EXPECT_EQ(a[RayKind::camera], b[RayKind::camera]);
+  EXPECT_EQ(a[RayKind::shadow], b[RayKind::shadow]);
+  EXPECT_EQ(a[RayKind::reflection], b[RayKind::reflection]);
+  EXPECT_EQ(a[RayKind::refraction], b[RayKind::refraction]);
 }
 
 SceneFeatures features(const SceneDescription& scene) {
@@ -144,19 +143,19 @@ TEST(IntegratorSpecialisation, DiffuseSceneWhittedRunsTheShadowPath) {
   ASSERT_TRUE(f.shadows);
   ASSERT_FALSE(f.mirror || f.transmission || f.emission);
 
-  const Renders shadow = render_both(scene, IntegratorKind::shadow);
-  const Renders whitted = render_both(scene, IntegratorKind::whitted);
+  const Renders shadow = render_both(scene, "shadow");
+  const Renders whitted = render_both(scene, "whitted");
   // The occluder is there: shadow rays are cast, the same ones either way.
-  EXPECT_GT(shadow.specialised.result.rays.shadow, kPixels / 4);
+  EXPECT_GT(shadow.specialised.result.rays[RayKind::shadow], kPixels / 4);
   expect_same_rays(shadow.specialised.result.rays, shadow.general.result.rays);
   expect_same_bits(shadow.specialised.image, shadow.general.image);
 
   // whitted casts exactly the shadow integrator's rays and makes its image.
   const RayCounters& w = whitted.specialised.result.rays;
-  EXPECT_EQ(w.camera, kPixels);
-  EXPECT_EQ(w.shadow, shadow.specialised.result.rays.shadow);
-  EXPECT_EQ(w.reflection, 0u);
-  EXPECT_EQ(w.refraction, 0u);
+  EXPECT_EQ(w[RayKind::camera], kPixels);
+  EXPECT_EQ(w[RayKind::shadow], shadow.specialised.result.rays[RayKind::shadow]);
+  EXPECT_EQ(w[RayKind::reflection], 0u);
+  EXPECT_EQ(w[RayKind::refraction], 0u);
   expect_same_rays(w, whitted.general.result.rays);
   expect_same_bits(whitted.specialised.image, shadow.specialised.image);
   expect_same_bits(whitted.specialised.image, whitted.general.image);
@@ -165,17 +164,17 @@ TEST(IntegratorSpecialisation, DiffuseSceneWhittedRunsTheShadowPath) {
 TEST(IntegratorSpecialisation, NoOccluderMeansNoShadowRays) {
   for (const SceneDescription& scene : {lone_ball(), sunlit_floor()}) {
     ASSERT_FALSE(features(scene).shadows);
-    const Renders phong = render_both(scene, IntegratorKind::phong);
-    const Renders shadow = render_both(scene, IntegratorKind::shadow);
-    const Renders whitted = render_both(scene, IntegratorKind::whitted);
+    const Renders phong = render_both(scene, "phong");
+    const Renders shadow = render_both(scene, "shadow");
+    const Renders whitted = render_both(scene, "whitted");
     // The general code casts them, and they change nothing.
-    EXPECT_GT(shadow.general.result.rays.shadow, kPixels / 16);
-    EXPECT_GT(whitted.general.result.rays.shadow, kPixels / 16);
-    EXPECT_EQ(shadow.specialised.result.rays.shadow, 0u);
-    EXPECT_EQ(whitted.specialised.result.rays.shadow, 0u);
-    EXPECT_EQ(whitted.specialised.result.rays.reflection, 0u);
-    EXPECT_EQ(whitted.specialised.result.rays.refraction, 0u);
-    EXPECT_EQ(shadow.specialised.result.rays.camera, kPixels);
+    EXPECT_GT(shadow.general.result.rays[RayKind::shadow], kPixels / 16);
+    EXPECT_GT(whitted.general.result.rays[RayKind::shadow], kPixels / 16);
+    EXPECT_EQ(shadow.specialised.result.rays[RayKind::shadow], 0u);
+    EXPECT_EQ(whitted.specialised.result.rays[RayKind::shadow], 0u);
+    EXPECT_EQ(whitted.specialised.result.rays[RayKind::reflection], 0u);
+    EXPECT_EQ(whitted.specialised.result.rays[RayKind::refraction], 0u);
+    EXPECT_EQ(shadow.specialised.result.rays[RayKind::camera], kPixels);
     expect_same_bits(shadow.specialised.image, shadow.general.image);
     expect_same_bits(whitted.specialised.image, whitted.general.image);
     expect_same_bits(shadow.specialised.image, phong.general.image);
@@ -188,9 +187,9 @@ TEST(IntegratorSpecialisation, MirrorAndGlassKeepEveryRay) {
   const SceneDescription scene = mirror_and_glass();
   const SceneFeatures f = features(scene);
   ASSERT_TRUE(f.shadows && f.mirror && f.transmission);
-  const Renders whitted = render_both(scene, IntegratorKind::whitted);
-  EXPECT_GT(whitted.general.result.rays.reflection, 0u);
-  EXPECT_GT(whitted.general.result.rays.refraction, 0u);
+  const Renders whitted = render_both(scene, "whitted");
+  EXPECT_GT(whitted.general.result.rays[RayKind::reflection], 0u);
+  EXPECT_GT(whitted.general.result.rays[RayKind::refraction], 0u);
   expect_same_rays(whitted.specialised.result.rays, whitted.general.result.rays);
   expect_same_bits(whitted.specialised.image, whitted.general.image);
 }
@@ -200,9 +199,9 @@ TEST(IntegratorSpecialisation, OpaqueMirrorSceneSkipsOnlyRefraction) {
   const SceneFeatures f = features(scene);
   ASSERT_TRUE(f.shadows && f.mirror);
   ASSERT_FALSE(f.transmission);
-  const Renders whitted = render_both(scene, IntegratorKind::whitted);
-  EXPECT_GT(whitted.specialised.result.rays.reflection, 0u);
-  EXPECT_EQ(whitted.specialised.result.rays.refraction, 0u);
+  const Renders whitted = render_both(scene, "whitted");
+  EXPECT_GT(whitted.specialised.result.rays[RayKind::reflection], 0u);
+  EXPECT_EQ(whitted.specialised.result.rays[RayKind::refraction], 0u);
   expect_same_rays(whitted.specialised.result.rays, whitted.general.result.rays);
   expect_same_bits(whitted.specialised.image, whitted.general.image);
 }
@@ -212,11 +211,11 @@ TEST(IntegratorSpecialisation, LoneMirrorBallReflectsWithoutShadowRays) {
   scene.materials[0] = mirror_material();
   ASSERT_FALSE(features(scene).shadows);
   ASSERT_TRUE(features(scene).mirror);
-  const Renders whitted = render_both(scene, IntegratorKind::whitted);
-  EXPECT_GT(whitted.general.result.rays.shadow, 0u);
-  EXPECT_EQ(whitted.specialised.result.rays.shadow, 0u);
-  EXPECT_GT(whitted.specialised.result.rays.reflection, 0u);
-  EXPECT_EQ(whitted.specialised.result.rays.reflection, whitted.general.result.rays.reflection);
+  const Renders whitted = render_both(scene, "whitted");
+  EXPECT_GT(whitted.general.result.rays[RayKind::shadow], 0u);
+  EXPECT_EQ(whitted.specialised.result.rays[RayKind::shadow], 0u);
+  EXPECT_GT(whitted.specialised.result.rays[RayKind::reflection], 0u);
+  EXPECT_EQ(whitted.specialised.result.rays[RayKind::reflection], whitted.general.result.rays[RayKind::reflection]);
   expect_same_bits(whitted.specialised.image, whitted.general.image);
 }
 
@@ -227,8 +226,8 @@ TEST(IntegratorSpecialisation, EmissionIsAddedOnlyWhereSomethingEmits) {
   SceneDescription glowing = dark;
   glowing.materials[0].emissive = C3f(0.5f, 0.25f, 1.0f);
   ASSERT_TRUE(features(glowing).emission);
-  for (IntegratorKind kind :
-       {IntegratorKind::phong, IntegratorKind::shadow, IntegratorKind::whitted}) {
+  for (const char* kind :
+       {"phong", "shadow", "whitted"}) {
     const Renders d = render_both(dark, kind);
     const Renders g = render_both(glowing, kind);
     expect_same_bits(d.specialised.image, d.general.image);
@@ -243,10 +242,10 @@ TEST(IntegratorSpecialisation, EmissionIsAddedOnlyWhereSomethingEmits) {
 // The shadow rule's cases that the specialisation made matter: in each, the general shadow
 // integrator's image differs from phong's (a shadow ray is blocked somewhere), so the rule
 // must say shadows=yes, and the specialised image is still the general one.
-void expect_self_shadowing(const SceneDescription& scene, IntegratorKind kind) {
+void expect_self_shadowing(const SceneDescription& scene, const char* kind) {
   ASSERT_TRUE(features(scene).shadows);
   const Renders r = render_both(scene, kind);
-  const Renders unshadowed = render_both(scene, IntegratorKind::phong);
+  const Renders unshadowed = render_both(scene, "phong");
   EXPECT_NE(std::memcmp(r.general.image.rgba.data(), unshadowed.general.image.rgba.data(),
                         r.general.image.rgba.size() * sizeof(float)),
             0);
@@ -258,13 +257,13 @@ TEST(IntegratorSpecialisation, CameraInsideABallLitFromOutsideSeesItsShadow) {
   SceneDescription scene = lone_ball();
   scene.lights = {directional_light(V3d(0.2, -1.0, 0.1))};
   scene.cameras = {camera_at(V3d(0.0, 0.2, 0.3), V3d(0.0, -1.0, 0.0))};
-  expect_self_shadowing(scene, IntegratorKind::shadow);
+  expect_self_shadowing(scene, "shadow");
 }
 
 TEST(IntegratorSpecialisation, GlassBallShadowsItsOwnInside) {
   SceneDescription scene = lone_ball();
   scene.materials[0] = glass_material();
-  expect_self_shadowing(scene, IntegratorKind::whitted);
+  expect_self_shadowing(scene, "whitted");
 }
 
 TEST(IntegratorSpecialisation, FlatFloorWithLeaningNormalsShadowsItself) {
@@ -273,7 +272,7 @@ TEST(IntegratorSpecialisation, FlatFloorWithLeaningNormalsShadowsItself) {
   SceneDescription scene = sunlit_floor();
   for (V3f& n : scene.meshes[0].primitives[0].normals) n = V3f(1.0f, 1.0f, 0.0f).normalized();
   scene.lights = {point_light(V3d(6.0, -0.3, 0.0), 50.0f)};
-  expect_self_shadowing(scene, IntegratorKind::shadow);
+  expect_self_shadowing(scene, "shadow");
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <numbers>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/shading/material.h"
 #include "tests/test_scenes.h"
 
@@ -59,8 +59,8 @@ DiscMeasurement measure_disc(const Image& image) {
 // cos(theta) = sqrt(1 - r^2) over the projected disc, whose mean is 2/3 of the centre value.
 // The specular lobe at roughness 1 is uniform (n = 0), so it follows the same cosine law.
 TEST(OrthographicDisc, MeanIsTwoThirdsOfCentreInEverySphereMode) {
-  const auto integrator = make_integrator(IntegratorKind::shadow);
-  RenderSettings settings;
+  const auto integrator = make_integrator("shadow");
+  testing::TestSettings settings;
   settings.width = settings.height = 401;  // odd: one pixel centre sits on the disc's centre
   for (const char* mode : {"analytic", "embree-points", "mesh:6"}) {
     SCOPED_TRACE(mode);
@@ -100,9 +100,9 @@ TEST(LightUnits, PointLightIrradianceIsIntensityOverDistanceSquared) {
   bulb.position = V3d(0.0, 2.0, 0.0);
   scene.lights.push_back(bulb);
   scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 4.0));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 81;
-  const auto integrator = make_integrator(IntegratorKind::phong);
+  const auto integrator = make_integrator("phong");
   const auto r = render_scene(scene, *integrator, settings);
   const float centre = r.image.pixel(40, 40)[0];
   EXPECT_NEAR(centre, 25.0f / 4.0f / kPi, 1e-5f * centre);
@@ -132,9 +132,9 @@ TEST(LightUnits, SpotConeFallsOffBetweenInnerAndOuterAngle) {
   spot.outer_cone_angle = 0.6;
   scene.lights.push_back(spot);
   scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 2.0));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 101;
-  const auto r = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
+  const auto r = render_scene(scene, "phong", settings);
   EXPECT_NEAR(r.image.pixel(50, 50)[0], 10.0f / kPi, 1e-5f);  // inside the inner cone
   // Beyond tan(0.6) = 0.684 from the axis nothing arrives: pixel column 50 + 40 is at 1.6.
   EXPECT_EQ(r.image.pixel(90, 50)[0], 0.0f);
@@ -162,14 +162,14 @@ TEST(ShadowIntegrator, OccluderDarkensTheFloorAndCountsItsRays) {
   sun.direction = V3d(0.0, -1.0, 0.0);
   scene.lights.push_back(sun);
   scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 2.0));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 41;
-  const auto phong = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
-  const auto shadow = render_scene(scene, *make_integrator(IntegratorKind::shadow), settings);
-  EXPECT_EQ(phong.result.rays.shadow, 0u);
-  EXPECT_EQ(shadow.result.rays.camera, 41u * 41u);
+  const auto phong = render_scene(scene, "phong", settings);
+  const auto shadow = render_scene(scene, "shadow", settings);
+  EXPECT_EQ(phong.result.rays[RayKind::shadow], 0u);
+  EXPECT_EQ(shadow.result.rays[RayKind::camera], 41u * 41u);
   // Every camera ray hits the floor or the ball, all facing the light.
-  EXPECT_EQ(shadow.result.rays.shadow, 41u * 41u);
+  EXPECT_EQ(shadow.result.rays[RayKind::shadow], 41u * 41u);
   // Pixel (0, 0) sees the lit floor, well outside the ball's shadow.
   EXPECT_NEAR(shadow.image.pixel(0, 0)[0], 1.0f / kPi, 1e-6f);
   // Seen from the light's own direction the ball hides its whole shadow, so the two images
@@ -190,10 +190,10 @@ TEST(ShadowIntegrator, ObliqueLightCastsTheBallsShadowOnTheFloor) {
   sun.direction = V3d(1.0, -1.0, 0.0).normalized();  // shadow centre lands at x = +1
   scene.lights.push_back(sun);
   scene.cameras.push_back(ortho_camera_looking_down_y(5.0, 2.0));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 41;  // 0.1 units per pixel, centre pixel 20
-  const auto phong = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
-  const auto shadow = render_scene(scene, *make_integrator(IntegratorKind::shadow), settings);
+  const auto phong = render_scene(scene, "phong", settings);
+  const auto shadow = render_scene(scene, "shadow", settings);
   const float lit = std::cos(kPi / 4.0f) / kPi;
   // x = +1 (column 30): in the shadow's centre for `shadow`, lit for `phong`.
   EXPECT_NEAR(phong.image.pixel(30, 20)[0], lit, 1e-6f);
@@ -213,18 +213,18 @@ TEST(WhittedIntegrator, MirrorSphereReflectsTheBackground) {
   scene.materials.push_back(mirror);
   scene.spheres.push_back(Sphere{V3d(0.0, 0.0, 0.0), 1.0, 0, "mirror"});
   scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.2));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 31;
   settings.background = V3f(0.25f, 0.5f, 0.75f);
-  const auto r = render_scene(scene, *make_integrator(IntegratorKind::whitted), settings);
+  const auto r = render_scene(scene, "whitted", settings);
   const float* centre = r.image.pixel(15, 15);
   EXPECT_FLOAT_EQ(centre[0], 0.25f);
   EXPECT_FLOAT_EQ(centre[1], 0.5f);
   EXPECT_FLOAT_EQ(centre[2], 0.75f);
   EXPECT_EQ(centre[3], 1.0f);
-  EXPECT_GT(r.result.rays.reflection, 0u);
-  EXPECT_EQ(r.result.rays.refraction, 0u);
-  EXPECT_EQ(r.result.rays.shadow, 0u);  // no lights, no shadow rays
+  EXPECT_GT(r.result.rays[RayKind::reflection], 0u);
+  EXPECT_EQ(r.result.rays[RayKind::refraction], 0u);
+  EXPECT_EQ(r.result.rays[RayKind::shadow], 0u);  // no lights, no shadow rays
 }
 
 // A clear glass sphere neither absorbs nor emits: every path ends in the background, so the
@@ -240,13 +240,13 @@ TEST(WhittedIntegrator, GlassSphereConservesEnergy) {
   scene.materials.push_back(glass);
   scene.spheres.push_back(Sphere{V3d(0.0, 0.0, 0.0), 1.0, 0, "glass"});
   scene.cameras.push_back(ortho_camera_looking_down_z(5.0, 1.2));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 31;
   settings.background = V3f(1.0f);
   double previous_loss = 1.0;
   for (int depth : {2, 4, 8, 16}) {
     settings.max_depth = depth;
-    const auto r = render_scene(scene, *make_integrator(IntegratorKind::whitted), settings);
+    const auto r = render_scene(scene, "whitted", settings);
     double worst = 0.0;
     for (size_t i = 0; i < r.image.rgba.size(); i += 4) {
       ASSERT_TRUE(std::isfinite(r.image.rgba[i]));
@@ -268,12 +268,12 @@ TEST(Determinism, ImageIsBitIdenticalWithOneAndTwoThreads) {
   scene.materials[0].roughness = 0.3f;
   scene.meshes.push_back(quad_mesh(5.0f, -1.0f, 0));
   scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = 97;
   settings.height = 61;
   settings.spp = 4;
   settings.tile_size = 8;
-  const auto whitted = make_integrator(IntegratorKind::whitted);
+  const auto whitted = make_integrator("whitted");
   settings.threads = 1;
   const auto one = render_scene(scene, *whitted, settings);
   settings.threads = 2;

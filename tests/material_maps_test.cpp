@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/shading/material.h"
 #include "renderer/geometry/tangents.h"
 #include "tests/test_scenes.h"
@@ -60,10 +60,10 @@ Light sun(const V3f& to_light, float lux) {
   return l;
 }
 
-RenderSettings small(const V3f& ambient) {
-  RenderSettings settings;
+testing::TestSettings small(const V3f& ambient) {
+  testing::TestSettings settings;
   settings.width = settings.height = 8;
-  settings.ambient = ambient;
+  settings.ambient = ambient.x;  // grey
   settings.threads = 1;
   return settings;
 }
@@ -108,8 +108,8 @@ TEST(NormalMap, ConstantTexelGivesTheTiltedNormalsLambertCosine) {
     s.materials[0].normal_texture = 0;
     s.textures.push_back(one_texel(0.5f * (n.x + 1.0f), 0.5f * (n.y + 1.0f), 0.5f * (n.z + 1.0f)));
     s.lights.push_back(sun(to_light, lux));
-    const auto phong = make_integrator(IntegratorKind::phong);
-    const testing::Rendered r = testing::render_scene(s, *phong, small(V3f(0.0f)));
+    const auto phong = make_integrator("phong");
+    const testing::Rendered r = testing::render_scene(s, "phong", small(V3f(0.0f)));
     const float expected = lux * rho / kPi * n.dot(to_light);
     const float flat = lux * rho / kPi * to_light.z;
     ASSERT_GT(std::fabs(expected - flat), 0.05f * flat);  // the tilt is visible
@@ -131,8 +131,8 @@ TEST(NormalMap, StaysOnTheGeometricNormalsSide) {
   SurfaceHit hit;
   ASSERT_TRUE(scene.geometry().intersect(ray, &hit));
   const SurfaceResponse r = evaluate(scene.material(hit.material), hit);
-  EXPECT_NEAR(r.shading_normal.length(), 1.0f, 1e-6f);
-  EXPECT_GT(r.shading_normal.dot(hit.geometric_normal), 0.0f);
+  EXPECT_NEAR(r.bsdf.shading_normal().length(), 1.0f, 1e-6f);
+  EXPECT_GT(r.bsdf.shading_normal().dot(hit.geometric_normal), 0.0f);
 }
 
 // Occlusion scales the ambient term only: rho I_a (1 + strength (occlusion - 1)) plus the
@@ -144,8 +144,8 @@ TEST(OcclusionMap, ScalesTheAmbientTermOnly) {
   s.materials[0].occlusion_strength = strength;
   s.textures.push_back(one_texel(occlusion, 1.0f, 1.0f));  // glTF reads red only
   s.lights.push_back(sun(V3f(0.0f, 0.0f, 1.0f), lux));
-  const auto phong = make_integrator(IntegratorKind::phong);
-  const testing::Rendered r = testing::render_scene(s, *phong, small(V3f(1.0f)));
+  const auto phong = make_integrator("phong");
+  const testing::Rendered r = testing::render_scene(s, "phong", small(V3f(1.0f)));
   const float expected = rho * (1.0f + strength * (occlusion - 1.0f)) + lux * rho / kPi;
   EXPECT_NEAR(r.image.pixel(3, 4)[0], expected, 2e-6f);
 }
@@ -166,9 +166,9 @@ TEST(VertexColours, MultiplyTheBaseColour) {
   SurfaceHit hit;
   ASSERT_TRUE(scene.geometry().intersect(ray, &hit));
   const SurfaceResponse r = evaluate(scene.material(hit.material), hit);
-  EXPECT_NEAR(r.diffuse_albedo.x, 0.25f, 1e-6f);
-  EXPECT_NEAR(r.diffuse_albedo.y, 0.25f, 1e-6f);
-  EXPECT_NEAR(r.diffuse_albedo.z, 1.0f, 1e-6f);
+  EXPECT_NEAR(r.bsdf.lobes().diffuse_albedo.x, 0.25f, 1e-6f);
+  EXPECT_NEAR(r.bsdf.lobes().diffuse_albedo.y, 0.25f, 1e-6f);
+  EXPECT_NEAR(r.bsdf.lobes().diffuse_albedo.z, 1.0f, 1e-6f);
   EXPECT_NEAR(r.alpha, 0.2f, 1e-6f);
   EXPECT_NEAR(base_colour_alpha(scene.material(hit.material), hit), 0.2f, 1e-6f);
 }
@@ -203,7 +203,7 @@ TEST(TextureTransform, MapsAKnownUvToAKnownTexel) {
     hit.attributes = &attributes;
     hit.vertices[1] = 1;
     hit.vertices[2] = 2;
-    EXPECT_FLOAT_EQ(evaluate(m, hit).transmission_tint.x, 14.0f / 16.0f) << set;
+    EXPECT_FLOAT_EQ(evaluate(m, hit).bsdf.lobes().transmission_tint.x, 14.0f / 16.0f) << set;
   }
 }
 
@@ -232,8 +232,8 @@ TEST(TextureFiltering, GrazingCheckerConvergesToItsMean) {
     c.yfov = 0.5;
     c.camera_to_world = M44d().setTranslation(V3d(0.0, 0.5, 0.0));
     s.cameras.push_back(c);
-    const auto phong = make_integrator(IntegratorKind::phong);
-    RenderSettings settings = small(V3f(1.0f));
+    const auto phong = make_integrator("phong");
+    testing::TestSettings settings = small(V3f(1.0f));
     settings.width = settings.height = 64;
     return testing::render_scene(s, *phong, settings);
   };

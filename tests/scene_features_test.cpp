@@ -3,7 +3,7 @@
 // block a shadow ray, the shadow integrator renders exactly what phong renders.
 #include <gtest/gtest.h>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "scene_passes/scene_defaults.h"
 #include "renderer/scene_features.h"
 #include "scene_io/gltf_loader.h"
@@ -274,17 +274,17 @@ TEST(SceneFeatures, WhittedScene) {
 void expect_shadow_rays_change_nothing(const SceneDescription& scene,
                                        const SphereOptions& spheres) {
   ASSERT_FALSE(derive_scene_features(scene, spheres).shadows);
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = 48;
   settings.height = 36;
   settings.specialise = false;  // specialised, the shadow integrator would skip the rays
   GeometryOptions options;
   options.spheres = spheres;
   const auto phong =
-      testing::render_scene(scene, *make_integrator(IntegratorKind::phong), settings, options);
+      testing::render_scene(scene, "phong", settings, options);
   const auto shadow =
-      testing::render_scene(scene, *make_integrator(IntegratorKind::shadow), settings, options);
-  EXPECT_GT(shadow.result.rays.shadow, 0u);
+      testing::render_scene(scene, "shadow", settings, options);
+  EXPECT_GT(shadow.result.rays[RayKind::shadow], 0u);
   ASSERT_EQ(phong.image.rgba.size(), shadow.image.rgba.size());
   for (size_t i = 0; i < phong.image.rgba.size(); ++i)
     ASSERT_EQ(phong.image.rgba[i], shadow.image.rgba[i]) << "value " << i;

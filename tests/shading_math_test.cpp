@@ -125,9 +125,9 @@ TEST(MaterialMapping, WhiteSurfaceNeverReflectsMoreThanItReceives) {
         // Diffuse + specular + transmitted at normal incidence (the transmissive part
         // refracts 1 - F of its share), at most 1 in every channel.
         const float total =
-            r.diffuse_albedo.x + r.specular_colour.x + r.transmission * (1.0f - dielectric_f0(ior));
+            r.bsdf.lobes().diffuse_albedo.x + r.bsdf.lobes().specular_colour.x + r.bsdf.lobes().transmission * (1.0f - dielectric_f0(ior));
         EXPECT_LE(total, 1.0f + 1e-6f) << metallic << " " << transmission << " " << ior;
-        EXPECT_GE(r.diffuse_albedo.x, 0.0f);
+        EXPECT_GE(r.bsdf.lobes().diffuse_albedo.x, 0.0f);
       }
     }
   }
@@ -135,8 +135,8 @@ TEST(MaterialMapping, WhiteSurfaceNeverReflectsMoreThanItReceives) {
   Material white;
   white.metallic = 0.0f;
   const SurfaceResponse r = evaluate(white, SurfaceHit{});
-  EXPECT_NEAR(r.diffuse_albedo.x + r.specular_colour.x, 1.0f, 1e-6f);
-  EXPECT_NEAR(r.specular_colour.x, 0.04f, 1e-6f);
+  EXPECT_NEAR(r.bsdf.lobes().diffuse_albedo.x + r.bsdf.lobes().specular_colour.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(r.bsdf.lobes().specular_colour.x, 0.04f, 1e-6f);
 }
 
 }  // namespace

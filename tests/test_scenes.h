@@ -2,7 +2,13 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
 
+#include <tbb/task_arena.h>
+
+#include "integrators/registry.h"
 #include "renderer/image/colour.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
@@ -77,19 +83,49 @@ struct Rendered {
   RenderResult result;
 };
 
+// What a test render sets besides the film, gathered so that tests read as one list of
+// settings: the thread count (a task arena, as the session's), the integrator's parameters
+// (given to those integrators that take them) and the scene's environment.
+struct TestSettings : RenderSettings {
+  int threads = 0;
+  int max_depth = 5;
+  float ambient = 0.0f;
+  V3f background{0.0f, 0.0f, 0.0f};
+};
+
+// The integrator `name` with the settings' parameters that it takes.
+inline std::unique_ptr<Integrator> make_test_integrator(std::string_view name,
+                                                        const TestSettings& settings) {
+  const IntegratorInfo* info = find_integrator(name);
+  if (!info) throw std::invalid_argument("no integrator " + std::string(name));
+  ParameterSettings given;
+  if (takes_parameter(*info, "max-depth")) given["max-depth"] = settings.max_depth;
+  if (takes_parameter(*info, "ambient")) given["ambient"] = settings.ambient;
+  return configure_integrator(*info, given).integrator;
+}
+
 // The scene stays in world coordinates unless options.world_origin says otherwise, so that
 // analytic tests see exactly the coordinates they wrote (`prism render` rebases on the
 // camera; tests/stress/12_huge_coordinates_test.cpp checks that path).
 inline Rendered render_scene(const SceneDescription& scene, const Integrator& integrator,
-                             const RenderSettings& settings, const GeometryOptions& options = {},
+                             const TestSettings& settings, const GeometryOptions& options = {},
                              int camera = 0) {
   const ColourPipeline colour(WorkingSpace::linear_rec709);
   const CameraDescription& description = scene.cameras.at(static_cast<size_t>(camera));
-  const RenderScene render_scene(scene, options, colour);
-  const Camera cam = render_scene.camera(description, settings.width, settings.height);
+  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   Rendered r;
-  r.result = render(integrator, RenderContext{render_scene, cam, settings}, &r.image);
+  arena.execute([&] {
+    const RenderScene render_scene(scene, options, colour, Environment(settings.background));
+    const Camera cam = render_scene.camera(description, settings.width, settings.height);
+    r.result = render(integrator, RenderContext{render_scene, cam, settings}, &r.image);
+  });
   return r;
+}
+inline Rendered render_scene(const SceneDescription& scene, std::string_view integrator,
+                             const TestSettings& settings, const GeometryOptions& options = {},
+                             int camera = 0) {
+  return render_scene(scene, *make_test_integrator(integrator, settings), settings, options,
+                      camera);
 }
 
 }  // namespace prism::testing

@@ -19,7 +19,11 @@ bool keeps_alpha(const SurfaceFilter& f, const RTCFilterFunctionNArguments* args
   const float alpha = f.alpha(primitive, RTCHitN_u(args->hit, n, i), RTCHitN_v(args->hit, n, i));
   if (f.mode == AlphaMode::mask) return alpha >= f.cutoff;
   const auto* context = reinterpret_cast<const TraceContext*>(args->context);
-  return blend_uniform(ray_hash(context->rays[i]), RTCHitN_instID(args->hit, n, i, 0),
+  // The ray's own id, not i: Embree may hand a 16-ray packet to the filters in narrower
+  // batches (two of 8 on AVX2), where i is the lane within the batch. The packet's id
+  // fields hold each ray's index into context->rays (set_packet_lane); a single ray's is 0.
+  const unsigned lane = RTCRayN_id(args->ray, n, i);
+  return blend_uniform(ray_hash(context->rays[lane]), RTCHitN_instID(args->hit, n, i, 0),
                        RTCHitN_geomID(args->hit, n, i), primitive) < alpha;
 }
 

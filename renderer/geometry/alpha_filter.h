@@ -33,10 +33,10 @@
 #include <Imath/ImathVec.h>
 #include <embree3/rtcore.h>
 
-#include "renderer/shading/material.h"
 #include "renderer/geometry/ray.h"
-#include "renderer/scene_description.h"
 #include "renderer/geometry/surface_hit.h"
+#include "renderer/scene_description.h"
+#include "renderer/shading/material.h"
 
 namespace prism {
 
@@ -48,7 +48,8 @@ struct BackFaceCulling;
 
 struct TraceContext {
   RTCIntersectContext embree;  // first, so that a pointer to it is a pointer to this
-  // The traced rays, by the lane index Embree gives the filters (one for rtcIntersect1).
+  // The traced rays, by the ray id Embree gives the filters (RTCRayN_id: the lane of the
+  // packet as Prism built it, 0 for rtcIntersect1).
   const Ray* rays = nullptr;
   // Set, with embree.filter = cull_camera_back_faces, only for a culling trace.
   const BackFaceCulling* culling = nullptr;

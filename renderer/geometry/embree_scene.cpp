@@ -278,28 +278,6 @@ RTCBuildQuality embree_build_quality(BuildQuality quality) {
   return RTC_BUILD_QUALITY_HIGH;
 }
 
-const char* to_string(BuildQuality quality) {
-  switch (quality) {
-    case BuildQuality::low:
-      return "low";
-    case BuildQuality::medium:
-      return "medium";
-    case BuildQuality::high:
-      break;
-  }
-  return "high";
-}
-
-bool parse_build_quality(const std::string& text, BuildQuality* quality) {
-  for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
-    if (text == to_string(q)) {
-      *quality = q;
-      return true;
-    }
-  }
-  return false;
-}
-
 EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options,
                          const std::vector<Material>& materials)
     : world_origin_(options.world_origin) {

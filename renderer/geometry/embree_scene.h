@@ -24,6 +24,7 @@
 #include <Imath/ImathVec.h>
 #include <embree3/rtcore.h>
 
+#include "renderer/enum_names.h"
 #include "renderer/geometry/alpha_filter.h"
 #include "renderer/geometry/ray.h"
 #include "renderer/scene_description.h"
@@ -36,10 +37,12 @@ namespace prism {
 // longer to build; which pays depends on how many rays the tree will see
 // (docs/benchmarks.md, "BVH build quality and flags").
 enum class BuildQuality { low, medium, high };
-// "low", "medium", "high"; parse_build_quality returns false for anything else.
-const char* to_string(BuildQuality quality);
+inline constexpr EnumName<BuildQuality> kBuildQualityNames[] = {
+    {BuildQuality::low, "low"}, {BuildQuality::medium, "medium"}, {BuildQuality::high, "high"}};
+constexpr std::span<const EnumName<BuildQuality>> enum_names(BuildQuality) {
+  return kBuildQualityNames;
+}
 RTCBuildQuality embree_build_quality(BuildQuality quality);
-bool parse_build_quality(const std::string& text, BuildQuality* quality);
 
 struct GeometryOptions {
   SphereOptions spheres;

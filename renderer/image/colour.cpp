@@ -92,28 +92,6 @@ bool has_display(const OCIO::Config& config, const char* display) {
 
 }  // namespace
 
-const char* to_string(WorkingSpace space) {
-  switch (space) {
-    case WorkingSpace::linear_rec709:
-      return "linear-rec709";
-    case WorkingSpace::acescg:
-      return "acescg";
-  }
-  return "unknown";
-}
-
-bool parse_working_space(const std::string& text, WorkingSpace* out) {
-  if (text == "linear-rec709") {
-    *out = WorkingSpace::linear_rec709;
-    return true;
-  }
-  if (text == "acescg") {
-    *out = WorkingSpace::acescg;
-    return true;
-  }
-  return false;
-}
-
 struct ColourPipeline::Impl {
   OCIO::ConstConfigRcPtr config;
   std::string source;

@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "renderer/enum_names.h"
 #include "renderer/image/image.h"
 #include "renderer/scene_description.h"
 
@@ -21,9 +22,12 @@ namespace prism {
 
 enum class WorkingSpace { linear_rec709, acescg };
 
-// "linear-rec709" / "acescg" <-> enum, for the command line and metadata.
-const char* to_string(WorkingSpace space);
-bool parse_working_space(const std::string& text, WorkingSpace* out);
+// For the command line and metadata (renderer/enum_names.h: to_string, parse_enum).
+inline constexpr EnumName<WorkingSpace> kWorkingSpaceNames[] = {
+    {WorkingSpace::linear_rec709, "linear-rec709"}, {WorkingSpace::acescg, "acescg"}};
+constexpr std::span<const EnumName<WorkingSpace>> enum_names(WorkingSpace) {
+  return kWorkingSpaceNames;
+}
 
 class ColourPipeline {
  public:

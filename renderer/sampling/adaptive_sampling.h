@@ -3,12 +3,12 @@
 //
 // The main error estimate splits a pixel's n samples into its first 2^k (2^k the largest
 // power of two below n) and the rest. Both parts are unbiased estimates of the pixel; with Prism's
-// Owen-scrambled Sobol points (renderer/sampling/sampler.h) the first part is a complete (0,2)-net and
-// the rest a union of aligned nets, so both are as well stratified as the whole. The spread
-// of their means therefore tracks the real, stratified error of the pixel (falling close to
-// n^-3/4 at an edge), where the i.i.d. variance of the mean (sums of squares) would assume
-// n^-1/2 and keep sampling converged edges. Splitting by sample parity, as done for random
-// samplers, would be wrong here: Sobol's even samples all lie in one half of the pixel.
+// Owen-scrambled Sobol points (renderer/sampling/sampler.h) the first part is a complete (0,2)-net
+// and the rest a union of aligned nets, so both are as well stratified as the whole. The spread of
+// their means therefore tracks the real, stratified error of the pixel (falling close to n^-3/4 at
+// an edge), where the i.i.d. variance of the mean (sums of squares) would assume n^-1/2 and keep
+// sampling converged edges. Splitting by sample parity, as done for random samplers, would be wrong
+// here: Sobol's even samples all lie in one half of the pixel.
 //
 // Every decision reads only sums after complete rounds, so the set of samples each pixel
 // takes, and the image, are the same for any thread count or tile order.

@@ -58,16 +58,19 @@ inline uint32_t sobol_dim1(uint32_t index) {
 // in. Points in the same dyadic interval of length 2^-i share the flips of their first i
 // bits, so every elementary interval is mapped onto an elementary interval of the same size
 // (the net property survives), while each point becomes uniform on [0, 1).
-inline uint32_t owen_scramble24(uint32_t x, uint64_t seed) {
+inline uint32_t owen_scramble_bits(uint32_t x, uint64_t seed, int bits) {
   uint32_t flips = 0;
-  for (int i = 0; i < 24; ++i) {
+  for (int i = 0; i < bits; ++i) {
     // The node id (1 << i) | prefix numbers the tree's nodes uniquely across depths.
     const uint64_t prefix = i == 0 ? 0u : x >> (32 - i);
     const uint64_t node = (uint64_t{1} << i) | prefix;
     const uint64_t coin = mix64(seed ^ (node * 0x9e3779b97f4a7c15ULL)) >> 63;
     flips |= static_cast<uint32_t>(coin) << (31 - i);
   }
-  return (x ^ flips) & 0xffffff00u;
+  return x ^ flips;
+}
+inline uint32_t owen_scramble24(uint32_t x, uint64_t seed) {
+  return owen_scramble_bits(x, seed, 24) & 0xffffff00u;
 }
 
 // A 0.32 fraction with 24 significant bits as a float in [0, 1), never 1.0.
@@ -93,5 +96,63 @@ inline PixelSample2D sobol_owen_pixel_sample(uint64_t pixel_index, uint32_t samp
           fraction_to_float(
               owen_scramble24(sobol_dim1(sample_index), pixel_scramble_seed(pixel_index, 1)))};
 }
+
+// Beyond the pixel position: a sample has as many dimensions as an integrator asks for
+// (a light choice, a BSDF lobe, a direction...), numbered from 2 in the order it asks.
+// Dimensions come in pairs (2k, 2k + 1), each pair a (0,2)-sequence of its own: the pixel's
+// sample index is first shuffled, seeded by (pixel, pair), then the pair takes Sobol
+// dimensions 0 and 1 of the shuffled index, Owen-scrambled (the padding of pbrt-v4's
+// PaddedSobolSampler, without its need to know the sample count). The shuffle is a nested
+// uniform scramble of the index's bits from the most significant down: each bit is flipped
+// by a coin that depends on the bits above it only, so every aligned block of 2^m indices
+// maps onto an aligned block of 2^m indices. The first 2^m samples of a pair are then an
+// aligned block of a (0,2)-sequence, a (0,m,2)-net, for every m: padding keeps the
+// stratification while decorrelating the pairs from each other and from the pixel
+// position. Pair 0 is the pixel position itself, unshuffled, as it always was.
+inline uint32_t shuffled_sample_index(uint32_t sample_index, uint64_t seed) {
+  return owen_scramble_bits(sample_index, seed, 32);
+}
+
+// Dimension `dimension` of sample `sample_index` of pixel `pixel_index`, in [0, 1): a pure
+// function of the three, so any thread, tile or pass computes the same value.
+inline float sample_dimension(uint64_t pixel_index, uint32_t sample_index, uint32_t dimension) {
+  const uint32_t pair = dimension / 2;
+  const uint32_t index =
+      pair == 0 ? sample_index
+                : shuffled_sample_index(sample_index, mix64(pixel_scramble_seed(pixel_index, pair) ^
+                                                            0x2545f4914f6cdd1dULL));
+  const uint32_t x = (dimension & 1u) ? sobol_dim1(index) : sobol_dim0(index);
+  return fraction_to_float(owen_scramble24(x, pixel_scramble_seed(pixel_index, dimension)));
+}
+
+// One sample of one pixel, handing out its dimensions in order: what an integrator draws
+// its random numbers from. Cheap to copy; holds no state but the next dimension.
+class PixelSampler {
+ public:
+  // Dimensions 0 and 1 are the pixel position (the tile loop's), so an integrator's first
+  // request gets dimension 2.
+  static constexpr uint32_t kFirstIntegratorDimension = 2;
+
+  PixelSampler(uint64_t pixel_index, uint32_t sample_index,
+               uint32_t first_dimension = kFirstIntegratorDimension)
+      : pixel_(pixel_index), sample_(sample_index), dimension_(first_dimension) {}
+
+  float get1d() { return sample_dimension(pixel_, sample_, dimension_++); }
+  // Two dimensions of one pair when the next dimension starts a pair (stratified together);
+  // otherwise the odd one is used alone and the pair after it is taken.
+  PixelSample2D get2d() {
+    if (dimension_ & 1u) ++dimension_;
+    const float x = sample_dimension(pixel_, sample_, dimension_);
+    const float y = sample_dimension(pixel_, sample_, dimension_ + 1);
+    dimension_ += 2;
+    return {x, y};
+  }
+  uint32_t dimension() const { return dimension_; }
+
+ private:
+  uint64_t pixel_;
+  uint32_t sample_;
+  uint32_t dimension_;
+};
 
 }  // namespace prism

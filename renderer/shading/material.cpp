@@ -213,19 +213,20 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
                std::min(f0_ior * material.specular_colour.z, 1.0f) * material.specular);
   const float layer = std::max({f0.x, f0.y, f0.z});
   const float dielectric = 1.0f - metallic;
+  BsdfLobes lobes;
+  lobes.transmission = dielectric * material.transmission;
+  lobes.diffuse_albedo = base * (dielectric * (1.0f - material.transmission) * (1.0f - layer));
+  lobes.specular_colour = f0 * dielectric + base * metallic;
+  lobes.phong_exponent = phong_exponent_from_roughness(roughness);
+  lobes.mirror = roughness <= kMirrorRoughness;
+  lobes.ior = material.ior;
+  lobes.transmission_tint = base;
   SurfaceResponse r;
-  r.transmission = dielectric * material.transmission;
-  r.diffuse_albedo = base * (dielectric * (1.0f - material.transmission) * (1.0f - layer));
-  r.specular_colour = f0 * dielectric + base * metallic;
-  r.phong_exponent = phong_exponent_from_roughness(roughness);
-  r.mirror = roughness <= kMirrorRoughness;
-  r.ior = material.ior;
-  r.transmission_tint = base;
+  r.bsdf = Bsdf(material.normal_texture.texture
+                    ? bend_normal(hit, read.sample(material.normal_texture), material.normal_scale)
+                    : hit.shading_normal,
+                lobes);
   r.emission = emission;
-  r.shading_normal =
-      material.normal_texture.texture
-          ? bend_normal(hit, read.sample(material.normal_texture), material.normal_scale)
-          : hit.shading_normal;
   if (material.occlusion_texture.texture) {
     const float occlusion = read.sample(material.occlusion_texture).x;  // glTF: red
     r.ambient_occlusion =

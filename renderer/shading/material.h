@@ -9,8 +9,9 @@
 #include <Imath/ImathMatrix.h>
 #include <Imath/ImathVec.h>
 
-#include "renderer/scene_description.h"
 #include "renderer/geometry/surface_hit.h"
+#include "renderer/scene_description.h"
+#include "renderer/shading/bsdf.h"
 #include "renderer/shading/texture.h"
 
 namespace prism {
@@ -63,19 +64,13 @@ struct Material {
   Rgb specular_colour{1.0f, 1.0f, 1.0f};
 };
 
-// The shading model's parameters at one surface point.
+// What a material is at one surface point: its BSDF (renderer/shading/bsdf.h), the light it
+// emits, and the two factors of glTF's model that are not scattering.
 struct SurfaceResponse {
-  Rgb diffuse_albedo;    // rho_d; the BRDF is rho_d / pi
-  Rgb specular_colour;   // k_s: reflectance at normal incidence (F0)
-  float phong_exponent;  // n of the normalised lobe (n + 2) / (2 pi) (R.V)^n
-  bool mirror;           // reflects a recursive mirror ray (whitted)
-  float transmission;    // fraction refracted rather than diffusely reflected
-  float ior;
-  Rgb transmission_tint;  // colour of light passing through (the base colour)
-  Rgb emission;           // emitted radiance
-  // Unit, on the geometric normal's side: the hit's shading normal, bent by the material's
-  // normal map where it has one. Integrators shade with this, not SurfaceHit's.
-  Imath::V3f shading_normal;
+  // Its shading normal is the hit's, bent by the material's normal map where it has one:
+  // integrators shade with this, not SurfaceHit's.
+  Bsdf bsdf;
+  Rgb emission;  // emitted radiance
   // The occlusion texture's factor 1 + strength (occlusion - 1), in [0, 1]: it scales the
   // ambient term only, glTF's "indirect light" (docs/materials.md, "Occlusion").
   float ambient_occlusion = 1.0f;

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/camera.h"
 #include "renderer/math.h"
 #include "tests/test_scenes.h"
@@ -56,7 +56,7 @@ V3d pixel_centre(const CameraDescription& c, int x, int y) {
 }
 
 TEST(StressTinyHugeSpheres, NoSelfShadowAndNoHoles) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = kSize;
   std::printf("%-14s %8s %6s %7s %7s %6s\n", "mode", "radius", "lit", "differ", "inside", "holes");
   // The exact modes only: a mesh with smooth vertex normals lights facets that face away
@@ -77,9 +77,9 @@ TEST(StressTinyHugeSpheres, NoSelfShadowAndNoHoles) {
       GeometryOptions options;
       options.spheres = mode;
       const auto phong =
-          render_scene(scene, *make_integrator(IntegratorKind::phong), settings, options);
+          render_scene(scene, "phong", settings, options);
       const auto shadow =
-          render_scene(scene, *make_integrator(IntegratorKind::shadow), settings, options);
+          render_scene(scene, "shadow", settings, options);
       // Hit or miss is only decided within a few ulps of the coordinates of the rim.
       const double band = 1e-5 * radius + 4.0 * ulp_of(float(std::fabs(centre.x) + radius));
       const Camera camera(scene.cameras[0], kSize, kSize, V3d(0.0));
@@ -119,7 +119,7 @@ TEST(StressTinyHugeSpheres, NoSelfShadowAndNoHoles) {
 // margin for the pixel grid) must equal phong exactly; pixels inside it must be black
 // (no ambient light), while phong lights them.
 TEST(StressTinyHugeSpheres, WallMadeOfAHugeSphere) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = kSize;
   const V3d ball(0, 0, 2);
   const V3d to_light = V3d(-1, 0, 1).normalized();
@@ -138,9 +138,9 @@ TEST(StressTinyHugeSpheres, WallMadeOfAHugeSphere) {
     GeometryOptions options;
     options.spheres = mode;
     const auto phong =
-        render_scene(scene, *make_integrator(IntegratorKind::phong), settings, options);
+        render_scene(scene, "phong", settings, options);
     const auto shadow =
-        render_scene(scene, *make_integrator(IntegratorKind::shadow), settings, options);
+        render_scene(scene, "shadow", settings, options);
     int lit = 0, differ = 0, shaded = 0, dark = 0;
     for (int y = 0; y < kSize; ++y) {
       for (int x = 0; x < kSize; ++x) {

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
 
@@ -73,12 +73,12 @@ Range check_energy(const Image& image) {
 }
 
 TEST(StressGlassInternal, SphereAndSlabNeverGainEnergyFromOutsideOrInside) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = 96;
   settings.height = 72;
   settings.max_depth = 16;
   settings.background = V3f(1.0f);
-  const auto whitted = make_integrator(IntegratorKind::whitted);
+  const auto whitted = make_integrator("whitted");
 
   SceneDescription sphere;
   sphere.materials.push_back(clear_glass());
@@ -108,15 +108,15 @@ TEST(StressGlassInternal, SphereAndSlabNeverGainEnergyFromOutsideOrInside) {
     GeometryOptions options;
     ASSERT_TRUE(parse_sphere_options(mode, &options.spheres, nullptr));
     for (int camera : {0, 1}) {
-      const auto r = render_scene(sphere, *whitted, settings, options, camera);
+      const auto r = render_scene(sphere, "whitted", settings, options, camera);
       const Range range = check_energy(r.image);
       std::printf("glass sphere %s, camera %s: radiance in [%.6f, %.6f]\n", mode,
                   camera ? "inside" : "outside", range.lo, range.hi);
-      EXPECT_GT(r.result.rays.refraction, 0u);
+      EXPECT_GT(r.result.rays[RayKind::refraction], 0u);
     }
   }
   for (int camera : {0, 1}) {
-    const auto r = render_scene(slab, *whitted, settings, {}, camera);
+    const auto r = render_scene(slab, "whitted", settings, {}, camera);
     const Range range = check_energy(r.image);
     std::printf("glass slab, camera %s: radiance in [%.6f, %.6f]\n", camera ? "inside" : "outside",
                 range.lo, range.hi);
@@ -169,13 +169,13 @@ InsideView render_inside(const GeometryOptions& options) {
   scene.spheres.push_back(Sphere{V3d(0.0), 1.0, 0, "glass"});
   // 0.9 from the centre, looking at it: incidence from 0 to 53 degrees across the view.
   scene.cameras.push_back(perspective(V3d(0.0, 0.0, 0.9), V3d(0.0), 2.2));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 80;
   settings.max_depth = kInsideDepth;
   settings.background = V3f(1.0f);
   InsideView view;
   view.image =
-      render_scene(scene, *make_integrator(IntegratorKind::whitted), settings, options).image;
+      render_scene(scene, "whitted", settings, options).image;
   const Camera camera(scene.cameras[0], settings.width, settings.height, V3d(0.0));
   for (int py = 0; py < settings.height; ++py) {
     for (int px = 0; px < settings.width; ++px) {

@@ -9,7 +9,7 @@
 #include <cstring>
 #include <limits>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
 
@@ -162,10 +162,10 @@ SceneDescription scene_with(const Primitive& box_prim, const Primitive& ball_pri
 }
 
 Image render_image(const SceneDescription& scene) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = 160;
   settings.height = 120;
-  const auto r = render_scene(scene, *make_integrator(IntegratorKind::whitted), settings);
+  const auto r = render_scene(scene, "whitted", settings);
   for (float v : r.image.rgba) EXPECT_TRUE(std::isfinite(v));
   return r.image;
 }

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/math.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
@@ -90,7 +90,7 @@ SceneDescription mirrored(SceneDescription scene) {
 }
 
 TEST(StressNegativeScale, MirroredSceneRendersAsTheHorizontalFlip) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   // A power-of-two width makes pixel x and width - 1 - x generate exactly mirrored rays
   // (2 (x + 0.5) / 128 - 1 is exact), so only the geometry's rounding can differ.
   settings.width = 128;
@@ -101,7 +101,7 @@ TEST(StressNegativeScale, MirroredSceneRendersAsTheHorizontalFlip) {
     SCOPED_TRACE(robust ? "robust" : "default");
     GeometryOptions options;
     options.robust = robust;
-    const auto whitted = make_integrator(IntegratorKind::whitted);
+    const auto whitted = make_integrator("whitted");
     const auto a = render_scene(scene, *whitted, settings, options);
     const auto b = render_scene(mirror, *whitted, settings, options);
     double max_diff = 0.0, max_value = 0.0;

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
 
@@ -79,7 +79,7 @@ SceneDescription test_scene(const V3d& offset) {
 }
 
 Image render_with_origin(const SceneDescription& scene, const V3d& world_origin) {
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = 160;
   settings.height = 120;
   settings.max_depth = 4;
@@ -89,7 +89,7 @@ Image render_with_origin(const SceneDescription& scene, const V3d& world_origin)
   const RenderScene render_scene(scene, options, colour);
   const Camera camera = render_scene.camera(scene.cameras[0], settings.width, settings.height);
   Image image;
-  render(*make_integrator(IntegratorKind::whitted), RenderContext{render_scene, camera, settings},
+  render(*make_integrator("whitted", {{"max-depth", settings.max_depth}}), RenderContext{render_scene, camera, settings},
          &image);
   return image;
 }

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "renderer/math.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
@@ -52,10 +52,10 @@ struct TerminatorCount {
 // sphere itself.
 TerminatorCount count_terminator(int level, const V3d& light_direction) {
   const SceneDescription scene = low_poly_sphere(level, light_direction);
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 256;
-  const auto phong = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
-  const auto shadow = render_scene(scene, *make_integrator(IntegratorKind::shadow), settings);
+  const auto phong = render_scene(scene, "phong", settings);
+  const auto shadow = render_scene(scene, "shadow", settings);
 
   const EmbreeScene geometry(scene, {});
   const Camera camera(scene.cameras[0], settings.width, settings.height, V3d(0.0));

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "integrators/local_shading.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
@@ -31,7 +31,7 @@ struct Shading {
     description.cameras.push_back(ortho_camera_looking_down_y(1.0, 1.0));
     scene = std::make_unique<RenderScene>(description, GeometryOptions{}, colour);
     camera = std::make_unique<Camera>(scene->camera(description.cameras[0], 4, 4));
-    settings.ambient = V3f(ambient);
+    settings.ambient = ambient;
   }
   // A surface at the origin facing +Y.
   float at(const SurfaceResponse& surface, const V3f& to_viewer, bool shadows = true,
@@ -41,8 +41,9 @@ struct Shading {
     hit.geometric_normal = hit.shading_normal = V3f(0.0f, 1.0f, 0.0f);
     const RenderContext context{*scene, *camera, settings};
     const V3f v = normalize(to_viewer);
-    const V3f L = shadows ? shade_local<true>(context, hit, surface, v, &counters)
-                          : shade_local<false>(context, hit, surface, v, &counters);
+    const V3f ambient(settings.ambient);
+    const V3f L = shadows ? shade_local<true>(context, ambient, hit, surface, v, &counters)
+                          : shade_local<false>(context, ambient, hit, surface, v, &counters);
     EXPECT_TRUE(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z));
     EXPECT_EQ(L.x, L.y);
     EXPECT_EQ(L.y, L.z);
@@ -52,18 +53,19 @@ struct Shading {
   ColourPipeline colour{WorkingSpace::linear_rec709};
   std::unique_ptr<RenderScene> scene;
   std::unique_ptr<Camera> camera;
-  RenderSettings settings;
+  testing::TestSettings settings;
   RayCounters counters;
 };
 
 constexpr double kRhoD = 0.3, kKs = 0.2;
 
 SurfaceResponse surface_with_exponent(float n) {
+  BsdfLobes lobes;
+  lobes.diffuse_albedo = V3f(static_cast<float>(kRhoD));
+  lobes.specular_colour = V3f(static_cast<float>(kKs));
+  lobes.phong_exponent = n;
   SurfaceResponse s{};
-  s.diffuse_albedo = V3f(static_cast<float>(kRhoD));
-  s.specular_colour = V3f(static_cast<float>(kKs));
-  s.phong_exponent = n;
-  s.shading_normal = V3f(0.0f, 1.0f, 0.0f);  // the surface's normal, as the hit's
+  s.bsdf = Bsdf(V3f(0.0f, 1.0f, 0.0f), lobes);  // the surface's normal, as the hit's
   return s;
 }
 
@@ -140,7 +142,7 @@ TEST(StressPhongEdgeCases, PointLightOnTheSurfaceAndZeroIntensityLightsAddNothin
   EXPECT_FLOAT_EQ(s.at(surface, V3f(0, 1, 0)), static_cast<float>(ambient_only));
   EXPECT_FLOAT_EQ(s.at(surface, V3f(0.3f, 1, 0), false), static_cast<float>(ambient_only));
   // Nothing arrives, so no light is worth a shadow ray.
-  EXPECT_EQ(s.counters.shadow, 0u);
+  EXPECT_EQ(s.counters[RayKind::shadow], 0u);
 
   // Rendered: a point light lying in the floor's plane is at grazing incidence (cos = 0)
   // everywhere and at the light itself delivers nothing: the floor is exactly black.
@@ -153,9 +155,9 @@ TEST(StressPhongEdgeCases, PointLightOnTheSurfaceAndZeroIntensityLightsAddNothin
   in_plane.position = V3d(0.0, 0.0, 0.0);  // the centre pixel's hit point
   scene.lights.push_back(in_plane);
   scene.cameras.push_back(ortho_camera_looking_down_y(3.0, 1.0));
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 33;
-  for (IntegratorKind kind : {IntegratorKind::phong, IntegratorKind::shadow}) {
+  for (const char* kind : {"phong", "shadow"}) {
     const auto r = render_scene(scene, *make_integrator(kind), settings);
     for (size_t i = 0; i < r.image.rgba.size(); i += 4) ASSERT_EQ(r.image.rgba[i], 0.0f) << i;
     EXPECT_EQ(r.image.pixel(16, 16)[3], 1.0f);  // the floor was hit
@@ -185,13 +187,13 @@ TEST(StressPhongEdgeCases, LightInsideAClosedMeshLightsOnlyItsInside) {
   inside.yfov = 1.5;
   inside.camera_to_world = M44d(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 2, 0, 1);  // looks down
   scene.cameras.push_back(inside);
-  RenderSettings settings;
+  testing::TestSettings settings;
   settings.width = settings.height = 65;
 
   // From outside, with shadows: the shell's outside faces away from the light and the floor
   // is in its shadow: exactly black. Without shadows the floor is lit and the shell not.
-  const auto shadow = render_scene(scene, *make_integrator(IntegratorKind::shadow), settings);
-  const auto phong = render_scene(scene, *make_integrator(IntegratorKind::phong), settings);
+  const auto shadow = render_scene(scene, "shadow", settings);
+  const auto phong = render_scene(scene, "phong", settings);
   for (size_t i = 0; i < shadow.image.rgba.size(); i += 4)
     ASSERT_EQ(shadow.image.rgba[i], 0.0f) << i;
   EXPECT_GT(phong.image.pixel(1, 1)[0], 0.0f);    // floor corner, outside the shell
@@ -203,7 +205,7 @@ TEST(StressPhongEdgeCases, LightInsideAClosedMeshLightsOnlyItsInside) {
   // the sphere). With n = 0 the whole albedo rho_d + k_s = 0.8 * 0.96 + 0.04 scatters
   // uniformly: L = 0.808 / pi * I / d^2.
   const auto from_inside =
-      render_scene(scene, *make_integrator(IntegratorKind::shadow), settings, {}, 1);
+      render_scene(scene, "shadow", settings, {}, 1);
   const double err = tessellation_max_error(kRadius, kLevel);
   const double albedo = 0.8 * 0.96 + 0.04;
   const double lo = albedo / kPiD * kIntensity / (kRadius * kRadius) * (1.0 - 1e-5);
@@ -212,7 +214,7 @@ TEST(StressPhongEdgeCases, LightInsideAClosedMeshLightsOnlyItsInside) {
     ASSERT_GE(from_inside.image.rgba[i], lo) << i;
     ASSERT_LE(from_inside.image.rgba[i], hi) << i;
   }
-  EXPECT_EQ(from_inside.result.rays.shadow, 65u * 65u);  // one per pixel, none blocked
+  EXPECT_EQ(from_inside.result.rays[RayKind::shadow], 65u * 65u);  // one per pixel, none blocked
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "integrators/integrators.h"
+#include "integrators/registry.h"
 #include "tests/test_scenes.h"
 
 namespace prism {
@@ -32,8 +32,8 @@ SceneDescription floor_scene(float sun_intensity) {
   return scene;
 }
 
-RenderSettings small_settings() {
-  RenderSettings s;
+testing::TestSettings small_settings() {
+  testing::TestSettings s;
   // 0.16 world units a pixel: the floor's edges cut pixels 6 and 18, so some are partial.
   s.width = s.height = 25;
   s.spp = 4;
@@ -55,16 +55,16 @@ bool all_finite(const Image& image) {
   return true;
 }
 
-const IntegratorKind kAllIntegrators[] = {IntegratorKind::phong, IntegratorKind::shadow,
-                                          IntegratorKind::whitted};
+const char* const kAllIntegrators[] = {"phong", "shadow",
+                                          "whitted"};
 
 // An infinitely (or NaN-) bright sun makes every lit floor sample non-finite. Each of them
 // is discarded, so the count is the number of samples that hit the floor in a finite render
 // of the same scene; fully covered pixels become 0 with alpha 0, and partly covered ones
 // keep only their background samples.
 TEST(Stress15NanFirewall, NonFiniteLightSamplesAreDiscardedAndCounted) {
-  const RenderSettings settings = small_settings();
-  for (IntegratorKind kind : kAllIntegrators) {
+  const testing::TestSettings settings = small_settings();
+  for (const char* kind : kAllIntegrators) {
     const auto integrator = make_integrator(kind);
     const testing::Rendered finite =
         testing::render_scene(floor_scene(1.0f), *integrator, settings);
@@ -73,12 +73,12 @@ TEST(Stress15NanFirewall, NonFiniteLightSamplesAreDiscardedAndCounted) {
     ASSERT_GT(hits, 0u);
     ASSERT_LT(hits, static_cast<uint64_t>(settings.width * settings.height * settings.spp));
     for (float intensity : {kInf, kNaN}) {
-      SCOPED_TRACE(std::string(integrator->name()) + (std::isnan(intensity) ? " NaN" : " inf"));
+      SCOPED_TRACE(std::string(kind) + (std::isnan(intensity) ? " NaN" : " inf"));
       const testing::Rendered r =
           testing::render_scene(floor_scene(intensity), *integrator, settings);
       EXPECT_TRUE(all_finite(r.image));
       EXPECT_EQ(r.result.rays.discarded_samples, hits);
-      EXPECT_EQ(r.result.rays.camera, finite.result.rays.camera);  // discarded, still cast
+      EXPECT_EQ(r.result.rays[RayKind::camera], finite.result.rays[RayKind::camera]);  // discarded, still cast
       int full = 0, partial = 0, clear = 0;
       for (int y = 0; y < settings.height; ++y) {
         for (int x = 0; x < settings.width; ++x) {
@@ -108,10 +108,10 @@ TEST(Stress15NanFirewall, NonFiniteLightSamplesAreDiscardedAndCounted) {
 // (renderer/geometry/embree_scene.cpp), so nothing reaches the firewall: no discards, and the image
 // is the flat floor's. With an infinite sun as well, the discards are exactly the floor hits.
 TEST(Stress15NanFirewall, NanShadingNormalsNeverReachThePixels) {
-  const RenderSettings settings = small_settings();
-  for (IntegratorKind kind : kAllIntegrators) {
+  const testing::TestSettings settings = small_settings();
+  for (const char* kind : kAllIntegrators) {
     const auto integrator = make_integrator(kind);
-    SCOPED_TRACE(integrator->name());
+    SCOPED_TRACE(kind);
     SceneDescription flat = floor_scene(1.0f);
     flat.meshes[0].primitives[0].normals.clear();
     const testing::Rendered reference = testing::render_scene(flat, *integrator, settings);
@@ -133,13 +133,13 @@ TEST(Stress15NanFirewall, NanShadingNormalsNeverReachThePixels) {
 
 // A pixel whose every sample is discarded is transparent black, however many samples.
 TEST(Stress15NanFirewall, PixelWithEverySampleDiscardedIsTransparentBlack) {
-  RenderSettings settings = small_settings();
+  testing::TestSettings settings = small_settings();
   settings.width = settings.height = 4;
   SceneDescription scene = floor_scene(kInf);
   scene.cameras[0].xmag = scene.cameras[0].ymag = 0.5;  // the floor fills the view
   for (int spp : {1, 7}) {
     settings.spp = spp;
-    const auto integrator = make_integrator(IntegratorKind::whitted);
+    const auto integrator = make_integrator("whitted");
     const testing::Rendered r = testing::render_scene(scene, *integrator, settings);
     EXPECT_EQ(r.result.rays.discarded_samples, static_cast<uint64_t>(16 * spp));
     for (float v : r.image.rgba) EXPECT_EQ(v, 0.0f);

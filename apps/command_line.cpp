@@ -1,0 +1,138 @@
+#include "apps/command_line.h"
+
+#include <cstdio>
+
+namespace prism {
+
+void add_scene_options(CLI::App* cmd, SceneOptions* o) {
+  cmd->add_option("scene", o->scene_path, "Scene file (.gltf or .glb)")->required();
+  cmd->add_option(
+      "--res", o->resolution,
+      "Image size WIDTHxHEIGHT (default 640x480, or 480 high at the camera's aspect ratio)");
+  add_scene_select_option(cmd, &o->scene);
+  cmd->add_option("--camera", o->camera, "Camera name or index (default: the first)");
+  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  cmd->add_option("--working-space", o->working_space, enum_choices<WorkingSpace>(" | "))
+      ->capture_default_str();
+  cmd->add_option("--background", o->background, "Radiance of rays that leave the scene")
+      ->capture_default_str();
+  // One flag per integrator parameter, from the integrators' own tables.
+  for (const ParameterInfo* p : all_integrator_parameters()) {
+    std::string takers;
+    for (const IntegratorInfo* info : integrator_registry())
+      if (takes_parameter(*info, p->name))
+        takers += std::string(takers.empty() ? "" : ", ") + info->name;
+    char fallback[32];
+    std::snprintf(fallback, sizeof fallback, "%g", p->default_value);
+    const std::string name = p->name;
+    cmd->add_option_function<double>(
+        "--" + name, [o, name](double v) { o->integrator_parameters[name] = v; },
+        std::string(p->description) + " (" + takers + "; default " + fallback + ")");
+  }
+  add_allow_external_paths_flag(cmd, &o->allow_external_paths);
+}
+
+void add_scene_select_option(CLI::App* cmd, std::string* scene) {
+  cmd->add_option("--scene", *scene,
+                  "glTF scene to load, by name or index (default: the file's `scene`, else 0)");
+}
+
+void add_allow_external_paths_flag(CLI::App* cmd, bool* allow) {
+  // Untrusted files must not read anything outside their own folder (docs/gltf.md).
+  cmd->add_flag("--allow-external-paths", *allow,
+                "Let the scene's buffers and images come from outside its folder");
+}
+
+void add_sphere_detection_options(CLI::App* cmd, SphereDetectionFlags* flags, bool with_replace) {
+  if (with_replace)
+    cmd->add_flag(
+        "--detect-spheres", flags->replace,
+        "Render meshes whose vertices lie on a sphere as analytic spheres (and say which)");
+  cmd->add_option(
+         "--sphere-tolerance", flags->tolerance,
+         "Largest distance of a vertex from the fitted sphere, relative to its radius, for "
+         "a mesh to count as a sphere")
+      ->capture_default_str();
+}
+
+SceneRequest scene_request(const SceneOptions& o, const SphereDetectionFlags& spheres) {
+  if (!std::isfinite(spheres.tolerance) || spheres.tolerance <= 0.0 || spheres.tolerance >= 0.1)
+    throw UsageError("--sphere-tolerance: must be a relative deviation above 0 and below 0.1");
+  SceneRequest request;
+  request.path = o.scene_path;
+  request.scene = o.scene;
+  request.allow_external_paths = o.allow_external_paths;
+  request.detect_spheres = spheres.replace;
+  request.sphere_detection.tolerance = spheres.tolerance;
+  return request;
+}
+
+SessionOptions session_options(const SceneOptions& o) {
+  SessionOptions options;
+  options.threads = o.threads;
+  return options;
+}
+
+RenderJob base_job(const SceneOptions& o) {
+  RenderJob job;
+  job.working_space = parse_choice<WorkingSpace>(o.working_space, "--working-space");
+  if (!o.resolution.empty() && !parse_resolution(o.resolution, &job.width, &job.height))
+    throw UsageError("--res " + o.resolution + ": expected WIDTHxHEIGHT, each 1 to " +
+                     std::to_string(kMaxImageSide));
+  if (!std::isfinite(o.background) || o.background < 0.0f)
+    throw UsageError("--background: must be a finite radiance >= 0");
+  job.camera = o.camera;
+  job.background = o.background;
+  job.integrator_parameters = o.integrator_parameters;
+  return job;
+}
+
+SphereOptions parse_spheres_option(const std::string& text, const std::string& option) {
+  SphereOptions spheres;
+  std::string error;
+  if (!parse_sphere_options(text, &spheres, &error))
+    throw UsageError(option + " " + text + ": " + error);
+  return spheres;
+}
+
+const IntegratorInfo& parse_integrator_option(const std::string& text, const std::string& option) {
+  const IntegratorInfo* info = find_integrator(text);
+  if (!info) throw UsageError(option + " " + text + ": expected " + integrator_choices());
+  return *info;
+}
+
+void print_warnings(const std::string& scene_path, const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings)
+    std::fprintf(stderr, "prism: warning: %s: %s\n", scene_path.c_str(), w.c_str());
+}
+
+int run_reporting_errors(const std::function<int()>& command) {
+  try {
+    return command();
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "prism: error: %s\n", e.what());
+    return 2;
+  } catch (const RequestError& e) {
+    std::fprintf(stderr, "prism: error: --%s %s\n", e.field.c_str(), e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "prism: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+std::string with_commas(uint64_t n) {
+  std::string s = std::to_string(n);
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<size_t>(i), ",");
+  return s;
+}
+
+std::string format_error(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+}  // namespace prism

@@ -1,0 +1,49 @@
+#include "renderer/shading/light_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace prism {
+
+LightSampler::LightSampler(const std::vector<LightSource>& lights, float scene_radius) {
+  if (lights.empty()) return;
+  std::vector<double> weight(lights.size());
+  double total = 0.0;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const Imath::V3f p = lights[i].power(scene_radius);
+    // Luminance of the power in double: thousands of lights of very different powers sum
+    // without losing the small ones.
+    const double w = 0.2126 * p.x + 0.7152 * p.y + 0.0722 * p.z;
+    weight[i] = std::isfinite(w) && w > 0.0 ? w : 0.0;
+    total += weight[i];
+  }
+  if (!(total > 0.0) || !std::isfinite(total)) {
+    std::fill(weight.begin(), weight.end(), 1.0);
+    total = static_cast<double>(lights.size());
+  }
+  cdf_.resize(lights.size());
+  double sum = 0.0;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    sum += weight[i];
+    cdf_[i] = sum / total;
+  }
+  cdf_.back() = 1.0;
+}
+
+bool LightSampler::sample(float u, SampledLight* out) const {
+  if (cdf_.empty()) return false;
+  // The first light whose cumulative share exceeds u; zero-power lights have cdf equal to
+  // their predecessor's and are skipped by upper_bound.
+  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), static_cast<double>(u));
+  const size_t i = std::min(static_cast<size_t>(it - cdf_.begin()), cdf_.size() - 1);
+  out->index = static_cast<uint32_t>(i);
+  out->pmf = pmf(out->index);
+  return true;
+}
+
+float LightSampler::pmf(uint32_t index) const {
+  if (index >= cdf_.size()) return 0.0f;
+  return static_cast<float>(cdf_[index] - (index == 0 ? 0.0 : cdf_[index - 1]));
+}
+
+}  // namespace prism

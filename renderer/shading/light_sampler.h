@@ -1,0 +1,37 @@
+// Chooses one light for a shading point, in proportion to its power (pbrt-v4's
+// PowerLightSampler), so that an integrator sampling one light per hit spends its shadow
+// rays where the light is, and a scene with thousands of lights costs one ray per hit, not
+// thousands. The Whitted integrators still sum every light: that is their model.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "renderer/shading/lights.h"
+
+namespace prism {
+
+struct SampledLight {
+  uint32_t index = 0;  // into RenderScene::lights()
+  float pmf = 0.0f;    // the probability it was chosen
+};
+
+class LightSampler {
+ public:
+  LightSampler() = default;
+  // `scene_radius` sizes directional lights' power (LightSource::power). Lights of zero or
+  // non-finite power are never chosen; if every light is so, each is chosen uniformly.
+  LightSampler(const std::vector<LightSource>& lights, float scene_radius);
+
+  bool empty() const { return cdf_.empty(); }
+  // The light whose share of the cumulative power contains u in [0, 1); false when there
+  // are no lights.
+  bool sample(float u, SampledLight* out) const;
+  // The probability sample() chooses light `index`.
+  float pmf(uint32_t index) const;
+
+ private:
+  std::vector<double> cdf_;  // cdf_[i] = power of lights [0, i] / total; cdf_.back() = 1
+};
+
+}  // namespace prism

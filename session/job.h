@@ -1,0 +1,109 @@
+// What a caller asks the session for: a scene to load (SceneRequest) and renders of it
+// (RenderJob), and what a render gives back (RenderOutput). Plain data, so a command line, a
+// job file or Python can fill them alike; the session checks every field and names the one
+// it refuses (RequestError).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "integrators/parameters.h"
+#include "renderer/geometry/embree_scene.h"
+#include "renderer/image/colour.h"
+#include "renderer/image/image.h"
+#include "renderer/image/image_metrics.h"
+#include "renderer/image/image_output.h"
+#include "renderer/integrator.h"
+#include "renderer/render.h"
+#include "renderer/scene_features.h"
+#include "scene_passes/sphere_detection.h"
+
+namespace prism {
+
+// A request the session cannot honour as asked: a camera the file does not have, a
+// resolution out of range, an integrator parameter it does not take. `field` is the
+// request's field spelled as its command-line flag without the dashes ("camera", "res",
+// "max-depth"), so a command line can report "--camera ..." and a job file "jobs[3].camera".
+// Anything else the session throws (std::runtime_error) is a scene or file that cannot be
+// read or written.
+struct RequestError : std::runtime_error {
+  RequestError(std::string field_name, const std::string& message)
+      : std::runtime_error(message), field(std::move(field_name)) {}
+  std::string field;
+};
+
+struct SceneRequest {
+  std::string path;                   // .gltf or .glb
+  std::string scene;                  // the glTF scene, by name or index; empty = the file's
+  bool allow_external_paths = false;  // buffers and images from outside the file's folder
+  // Add a camera and a light where the file has none (scene_passes/scene_defaults.h). False
+  // keeps the file's own until Session::add_defaults (prism info prints the file first).
+  bool add_defaults = true;
+  // Render meshes whose vertices lie on a sphere as analytic spheres (docs/spheres.md); the
+  // session's warnings then say which were replaced and which kept.
+  bool detect_spheres = false;
+  SphereDetectionOptions sphere_detection;
+};
+
+struct SessionOptions {
+  int threads = 0;  // worker threads for every build and render; 0 = every core
+  // The most a render's film and sample buffers may take, checked before they are made.
+  uint64_t memory_budget_bytes = uint64_t{8} << 30;
+};
+
+// "640x480" -> 640, 480 (each 1 to kMaxImageSide); false for anything else.
+inline constexpr int kMaxImageSide = 32768;
+bool parse_resolution(const std::string& text, int* width, int* height);
+
+struct RenderJob {
+  std::string integrator = "whitted";       // a name in integrators/registry.h
+  ParameterSettings integrator_parameters;  // any subset of its parameter table
+  std::string camera;                       // by name or index; empty = the first
+  // Explicit image size, or (0, 0): 640 x 480, or 480 high at the camera's aspect ratio.
+  int width = 0, height = 0;
+  // Samples and adaptive sampling; its width and height are settled by the session.
+  RenderSettings film;
+  WorkingSpace working_space = WorkingSpace::linear_rec709;
+  float background = 0.0f;  // radiance of rays that leave the scene (grey)
+  // How the BVH is built; renders with the same choices share one build.
+  SphereOptions spheres;
+  bool robust = false;
+  BuildQuality build_quality = BuildQuality::medium;
+  // Measure the error against this image after every pass (one sample per pixel per
+  // pass); the figures go into the output and its metadata. Must be a regular EXR file of
+  // the render's size.
+  std::string reference_path;
+};
+
+struct PassError {
+  int samples = 0;
+  double rmse = 0.0, relmse = 0.0;
+};
+
+struct JobCallbacks {
+  ProgressCallback progress;                         // tiles done, of tiles planned
+  std::function<bool()> cancel;                      // polled per tile: true stops
+  std::function<void(const PassError&)> pass_error;  // with a reference, after each pass
+};
+
+struct RenderOutput {
+  Image image;
+  RenderResult result;
+  RenderSettings film;         // as rendered: the resolution settled
+  std::string integrator;      // its registry name
+  ParameterValues parameters;  // every parameter of the integrator, as used
+  int camera_index = 0;
+  std::string camera_name;
+  GeometryStatistics geometry;
+  SceneFeatures features;
+  size_t lights = 0;
+  double build_seconds = 0.0;  // building the BVH for this job; 0 when an earlier job's was reused
+  std::vector<PassError> pass_errors;  // with a reference
+  RenderMetadata metadata;             // what its EXR records
+};
+
+}  // namespace prism

@@ -1,0 +1,78 @@
+#include "session/output_files.h"
+
+#include <cctype>
+#include <filesystem>
+#include <system_error>
+
+namespace prism {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool has_extension(const std::string& path, const char* extension) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == extension;
+}
+
+// The same file by another spelling (./a.exr, a symlink, a hard link) counts as the same.
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code error;
+  if (fs::exists(a, error) && fs::exists(b, error)) return fs::equivalent(a, b, error);
+  return fs::weakly_canonical(a, error) == fs::weakly_canonical(b, error);
+}
+
+void check_path(const std::string& path, const char* extension, const char* field) {
+  if (!has_extension(path, extension))
+    throw RequestError(field, path + ": the file name must end in " + extension);
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent))
+    throw RequestError(field, path + ": directory " + parent.string() + " does not exist");
+  if (fs::is_directory(path)) throw RequestError(field, path + ": is a directory");
+}
+
+}  // namespace
+
+void check_output_files(const OutputFiles& files, const std::string& scene_path) {
+  struct Named {
+    const std::string* path;
+    const char* extension;
+    const char* field;
+  };
+  const Named outputs[] = {{&files.exr, ".exr", "output"},
+                           {&files.preview, ".png", "preview"},
+                           {&files.sample_counts, ".exr", "sample-count-image"}};
+  for (size_t i = 0; i < std::size(outputs); ++i) {
+    const Named& o = outputs[i];
+    if (o.path->empty()) continue;
+    check_path(*o.path, o.extension, o.field);
+    if (same_file(*o.path, scene_path))
+      throw RequestError(o.field, *o.path + ": is the scene file itself");
+    for (size_t j = 0; j < i; ++j)
+      if (!outputs[j].path->empty() && same_file(*o.path, *outputs[j].path))
+        throw RequestError(o.field, *o.path + ": is also the " + outputs[j].field + " file");
+  }
+}
+
+Image sample_count_image(const RenderOutput& output) {
+  Image image(output.film.width, output.film.height);
+  const std::vector<uint32_t>& counts = output.result.samples_per_pixel;
+  for (size_t i = 0; i < image.rgba.size() / 4; ++i) {
+    const float n =
+        counts.empty() ? static_cast<float>(output.film.spp) : static_cast<float>(counts[i]);
+    image.rgba[i * 4 + 0] = image.rgba[i * 4 + 1] = image.rgba[i * 4 + 2] = n;
+    image.rgba[i * 4 + 3] = 1.0f;
+  }
+  return image;
+}
+
+void write_output_files(const OutputFiles& files, const RenderOutput& output,
+                        const ColourPipeline& colour) {
+  write_exr(files.exr, output.image, colour, output.metadata, files.pixel_type);
+  if (!files.preview.empty()) write_png_preview(files.preview, output.image, colour);
+  if (!files.sample_counts.empty())
+    write_exr(files.sample_counts, sample_count_image(output), colour, output.metadata,
+              ExrPixelType::float32);
+}
+
+}  // namespace prism

@@ -1,0 +1,33 @@
+// The files a render writes: the scene-linear EXR master, an optional display-referred PNG
+// preview and an optional sample-count EXR. Checked before the scene is loaded, so a typo in
+// a path costs nothing and overwrites nothing; written through temporaries renamed into
+// place (renderer/image/image_output.h), so nothing is ever half-written.
+#pragma once
+
+#include <string>
+
+#include "renderer/image/colour.h"
+#include "renderer/image/image_output.h"
+#include "session/job.h"
+
+namespace prism {
+
+struct OutputFiles {
+  std::string exr;            // required
+  std::string preview;        // .png, or empty
+  std::string sample_counts;  // .exr of each pixel's sample count (R = G = B), or empty
+  ExrPixelType pixel_type = ExrPixelType::float32;
+};
+
+// Throws RequestError naming the field ("output", "preview", "sample-count-image") when a
+// path has the wrong extension, names a directory, sits in a directory that does not exist,
+// is the scene file itself or is another output of the same render.
+void check_output_files(const OutputFiles& files, const std::string& scene_path);
+
+// Each pixel's sample count as grey (R = G = B), alpha 1.
+Image sample_count_image(const RenderOutput& output);
+
+void write_output_files(const OutputFiles& files, const RenderOutput& output,
+                        const ColourPipeline& colour);
+
+}  // namespace prism

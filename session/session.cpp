@@ -1,0 +1,337 @@
+#include "session/session.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "renderer/camera.h"
+#include "renderer/image/image_metrics.h"
+#include "scene_io/gltf_loader.h"
+#include "scene_passes/scene_defaults.h"
+
+namespace prism {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string format_number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+// "max-depth" -> "maxDepth": metadata keys are camel case, as OpenEXR's own are.
+std::string camel_case(const std::string& name) {
+  std::string out;
+  bool upper = false;
+  for (char c : name) {
+    if (c == '-') {
+      upper = true;
+      continue;
+    }
+    out += upper ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
+    upper = false;
+  }
+  return out;
+}
+
+// Bytes a render of `film` allocates for its film and per-pixel sample state, with the
+// sample-count image and a reference of the same size: an upper bound, checked before any
+// of it is made.
+uint64_t film_bytes(const RenderSettings& film, bool with_reference) {
+  const uint64_t pixels = static_cast<uint64_t>(film.width) * static_cast<uint64_t>(film.height);
+  uint64_t per_pixel = sizeof(float) * 4;  // the image
+  per_pixel += sizeof(float) * 4;          // the sample-count image or a preview
+  if (with_reference) per_pixel += 2 * sizeof(PixelSums) + sizeof(float) * 4;
+  if (film.adaptive())
+    per_pixel += 2 * sizeof(PixelSums) + sizeof(uint8_t) + sizeof(uint32_t) + sizeof(float);
+  return pixels * per_pixel;
+}
+
+// The reference image of a job, refused unless it is a regular file: reading a device or a
+// FIFO would never end.
+Image read_reference(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw RequestError("reference", path + ": no such file");
+  if (!S_ISREG(st.st_mode)) throw RequestError("reference", path + ": not a regular file");
+  try {
+    return read_exr(path);
+  } catch (const std::exception& e) {
+    throw RequestError("reference", e.what());
+  }
+}
+
+}  // namespace
+
+bool parse_resolution(const std::string& text, int* width, int* height) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    return false;
+  if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide) return false;
+  *width = w;
+  *height = h;
+  return true;
+}
+
+Session::Session(const SceneRequest& request, const SessionOptions& options)
+    : request_(request),
+      options_(options),
+      arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {
+  const auto start = Clock::now();
+  LoadOptions load;
+  load.allow_external_paths = request.allow_external_paths;
+  load.scene = request.scene;
+  arena_.execute([&] {
+    try {
+      scene_ = load_gltf(request.path, load);
+    } catch (const SceneSelectionError& e) {
+      throw RequestError("scene", e.what());
+    }
+    if (request.add_defaults) add_defaults();
+    if (request.detect_spheres) {
+      const std::vector<SphereCandidate> candidates =
+          find_sphere_meshes(scene_, request.sphere_detection);
+      // Described before the replacement removes their instances.
+      for (const SphereCandidate& c : candidates)
+        sphere_report_.push_back(c.blocker == SphereReplaceBlocker::none
+                                     ? "replaced " + describe_sphere_candidate(scene_, c) +
+                                           " by an analytic sphere"
+                                     : "kept " + describe_sphere_candidate(scene_, c) +
+                                           " as a mesh: " + to_string(c.blocker));
+      const size_t replaced = replace_sphere_meshes(&scene_, candidates).size();
+      sphere_report_.push_back(std::to_string(replaced) + " mesh" + (replaced == 1 ? "" : "es") +
+                               " replaced");
+    }
+  });
+  load_seconds_ = seconds_since(start);
+}
+
+Session::~Session() {
+  // The render scene's Embree objects are released on the session's threads too.
+  arena_.execute([&] { built_.scene.reset(); });
+}
+
+void Session::add_defaults() {
+  if (defaults_added_) return;
+  add_scene_defaults(&scene_);
+  defaults_added_ = true;
+}
+
+const ColourPipeline& Session::colour(WorkingSpace space) {
+  std::unique_ptr<ColourPipeline>& c = colours_[space];
+  if (!c) c = std::make_unique<ColourPipeline>(space);
+  return *c;
+}
+
+int Session::camera_index(const std::string& wanted) {
+  add_defaults();
+  return find_camera(wanted);
+}
+
+int Session::find_camera(const std::string& wanted) const {
+  if (wanted.empty()) return 0;
+  for (size_t i = 0; i < scene_.cameras.size(); ++i)
+    if (scene_.cameras[i].name == wanted) return static_cast<int>(i);
+  char* end = nullptr;
+  const long index = std::strtol(wanted.c_str(), &end, 10);
+  if (end != wanted.c_str() && *end == '\0' && index >= 0 &&
+      index < static_cast<long>(scene_.cameras.size()))
+    return static_cast<int>(index);
+  std::string names;
+  for (size_t i = 0; i < scene_.cameras.size(); ++i)
+    names += (i ? ", " : "") + std::to_string(i) + " '" + scene_.cameras[i].name + "'";
+  throw RequestError(
+      "camera", wanted + ": " + scene_.source_path + " has no such camera (it has " + names + ")");
+}
+
+Session::Plan Session::plan(const RenderJob& job) const {
+  Plan p;
+  p.integrator = find_integrator(job.integrator);
+  if (!p.integrator)
+    throw RequestError("integrator", job.integrator + ": expected " + integrator_choices());
+  try {
+    p.parameters = ParameterValues(p.integrator->parameters, job.integrator_parameters);
+  } catch (const ParameterError& e) {
+    std::string takes;
+    for (const ParameterInfo& info : p.integrator->parameters)
+      takes += std::string(takes.empty() ? "" : ", ") + info.name;
+    throw RequestError(e.parameter, std::string(e.what()) == "no such parameter"
+                                        ? std::string("the ") + p.integrator->name +
+                                              " integrator has no such parameter (it takes " +
+                                              (takes.empty() ? "none" : takes) + ")"
+                                        : e.what());
+  }
+  p.camera = find_camera(job.camera);
+  p.film = job.film;
+  if (job.width > 0 || job.height > 0) {
+    if (job.width < 1 || job.height < 1 || job.width > kMaxImageSide || job.height > kMaxImageSide)
+      throw RequestError("res", std::to_string(job.width) + "x" + std::to_string(job.height) +
+                                    ": expected WIDTHxHEIGHT, each 1 to " +
+                                    std::to_string(kMaxImageSide));
+    p.film.width = job.width;
+    p.film.height = job.height;
+  } else {
+    const CameraDescription& camera = scene_.cameras[static_cast<size_t>(p.camera)];
+    p.film.width = 640;
+    p.film.height = 480;
+    if (camera.aspect_ratio > 0.0) {
+      // In double, and bounded before it becomes an int: a file's aspect ratio is not to
+      // be trusted with the size of the film.
+      const double width = std::round(480.0 * camera.aspect_ratio);
+      if (!(width <= kMaxImageSide))
+        throw RequestError("res", "camera '" + camera.name + "' of " + scene_.source_path +
+                                      " has aspect ratio " + format_number(camera.aspect_ratio) +
+                                      ", which would make the image " + format_number(width) +
+                                      " pixels wide (at most " + std::to_string(kMaxImageSide) +
+                                      "): give the resolution explicitly");
+      p.film.width = std::max(1, static_cast<int>(width));
+    }
+  }
+  const uint64_t bytes = film_bytes(p.film, !job.reference_path.empty());
+  if (bytes > options_.memory_budget_bytes)
+    throw RequestError(
+        "res", std::to_string(p.film.width) + "x" + std::to_string(p.film.height) +
+                   " needs about " + format_number(static_cast<double>(bytes) / (1 << 30)) +
+                   " GiB of film and sample buffers, more than the memory budget of " +
+                   format_number(static_cast<double>(options_.memory_budget_bytes) / (1 << 30)) +
+                   " GiB");
+  return p;
+}
+
+void Session::check(const RenderJob& job) {
+  add_defaults();
+  const Plan p = plan(job);
+  if (!job.reference_path.empty()) {
+    const Image reference = read_reference(job.reference_path);
+    if (reference.width != p.film.width || reference.height != p.film.height)
+      throw RequestError("reference",
+                         job.reference_path + " is " + std::to_string(reference.width) + "x" +
+                             std::to_string(reference.height) + " but the render is " +
+                             std::to_string(p.film.width) + "x" + std::to_string(p.film.height));
+  }
+}
+
+const RenderScene& Session::render_scene(const RenderJob& job, double* build_seconds) {
+  const int camera = camera_index(job.camera);
+  auto key = std::make_tuple(to_string(job.spheres), job.robust, job.build_quality,
+                             job.working_space, job.background, camera);
+  if (build_seconds) *build_seconds = 0.0;
+  if (built_.scene && built_.key == key) return *built_.scene;
+  const ColourPipeline& colours = colour(job.working_space);
+  const auto start = Clock::now();
+  arena_.execute([&] {
+    built_.scene.reset();  // freed first: two BVHs at once would double the peak memory
+    GeometryOptions geometry;
+    geometry.spheres = job.spheres;
+    geometry.robust = job.robust;
+    geometry.build_quality = job.build_quality;
+    // Rebased on the camera: rays, hits and lights stay near 0 in float wherever the
+    // scene sits in the world (docs/stress-shading.md, huge coordinates).
+    geometry.world_origin = camera_position(scene_.cameras[static_cast<size_t>(camera)]);
+    built_.scene = std::make_unique<RenderScene>(scene_, geometry, colours,
+                                                 Environment(Imath::V3f(job.background)));
+  });
+  built_.key = key;
+  if (build_seconds) *build_seconds = seconds_since(start);
+  return *built_.scene;
+}
+
+RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks) {
+  add_defaults();
+  const Plan p = plan(job);
+  Image reference;
+  if (!job.reference_path.empty()) {
+    check(job);
+    reference = read_reference(job.reference_path);
+  }
+  RenderOutput out;
+  out.integrator = p.integrator->name;
+  out.parameters = p.parameters;
+  out.film = p.film;
+  out.camera_index = p.camera;
+  out.camera_name = scene_.cameras[static_cast<size_t>(p.camera)].name;
+  const RenderScene& built = render_scene(job, &out.build_seconds);
+  out.geometry = built.geometry().statistics();
+  out.features = built.features();
+  out.lights = built.lights().size();
+  const std::unique_ptr<Integrator> integrator = p.integrator->make(p.parameters);
+  const Camera camera =
+      built.camera(scene_.cameras[static_cast<size_t>(p.camera)], p.film.width, p.film.height);
+
+  RenderCallbacks render_callbacks;
+  render_callbacks.progress = callbacks.progress;
+  render_callbacks.cancel = callbacks.cancel;
+  if (!job.reference_path.empty()) {
+    render_callbacks.after_pass = [&](int samples, const Image& so_far) {
+      const ImageError e = compare_images(so_far, reference);
+      const PassError pass{samples, e.overall.rmse, e.overall.relmse};
+      out.pass_errors.push_back(pass);
+      if (callbacks.pass_error) callbacks.pass_error(pass);
+    };
+  }
+  arena_.execute([&] {
+    out.result = prism::render(*integrator, RenderContext{built, camera, p.film}, &out.image,
+                               render_callbacks);
+  });
+  out.metadata = metadata(job, p, camera, out);
+  return out;
+}
+
+RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Camera& camera,
+                                 const RenderOutput& out) const {
+  RenderMetadata m;
+  m.integrator = out.integrator;
+  m.spp = p.film.spp;
+  m.render_seconds = out.result.seconds;
+  m.world_to_camera = camera.world_to_camera();
+  m.world_to_ndc = camera.world_to_ndc();
+  m.scene_path = request_.path;
+  m.extra = {{"camera", out.camera_name},
+             {"spheres", to_string(job.spheres)},
+             {"buildQuality", to_string(job.build_quality)},
+             {"robust", job.robust ? "1" : "0"}};
+  for (const ParameterInfo& info : p.integrator->parameters)
+    m.extra.push_back({camel_case(info.name), format_number(p.parameters.real(info.name))});
+  for (const EnumName<RayKind>& kind : kRayKindNames) {
+    std::string key = std::string("rays-") + kind.name;
+    m.extra.push_back({camel_case(key), std::to_string(out.result.rays[kind.value])});
+  }
+  m.extra.push_back({"discardedSamples", std::to_string(out.result.rays.discarded_samples)});
+  const RenderSettings& s = p.film;
+  if (s.adaptive()) {  // docs/sampling.md: spp above is then the most a pixel took
+    m.extra.insert(m.extra.end(),
+                   {{"adaptiveTargetError", format_number(s.target_error)},
+                    {"adaptiveTimeLimit", format_number(s.time_limit_seconds)},
+                    {"adaptiveMinSpp", std::to_string(s.min_spp)},
+                    {"adaptiveRounds", std::to_string(out.result.rounds)},
+                    {"adaptiveTimeLimitReached", out.result.time_limit_reached ? "1" : "0"},
+                    {"samplesTaken", std::to_string(out.result.rays[RayKind::camera])},
+                    {"meanSpp", format_number(out.result.mean_spp(s))}});
+  }
+  const auto features = feature_metadata(out.features);
+  m.extra.insert(m.extra.end(), features.begin(), features.end());
+  if (!out.pass_errors.empty()) {
+    std::string rmse, relmse;
+    for (const PassError& e : out.pass_errors) {
+      rmse += (rmse.empty() ? "" : ",") + format_number(e.rmse);
+      relmse += (relmse.empty() ? "" : ",") + format_number(e.relmse);
+    }
+    m.extra.insert(m.extra.end(),
+                   {{"reference", job.reference_path},
+                    {"referenceRMSE", format_number(out.pass_errors.back().rmse)},
+                    {"referenceRelMSE", format_number(out.pass_errors.back().relmse)},
+                    {"referenceRMSEPerPass", rmse},
+                    {"referenceRelMSEPerPass", relmse}});
+  }
+  return m;
+}
+
+}  // namespace prism

@@ -1,0 +1,114 @@
+// The job API: everything between "a scene file and some options" and "images and figures",
+// so that every front end (prism render, compare, info, a batch runner, Python) is a thin
+// caller and the rules live in one place (Cycles' session/, Mitsuba's
+// Integrator::render(scene, sensor, seed, spp)).
+//
+// A Session loads one scene once and owns what renders of it share: the scene description,
+// its built render scene (BVH, materials, lights), the colour pipelines and the worker
+// threads. Each render(job) checks the job, reuses or builds the render scene its geometry
+// choices need, renders on the session's threads and returns the image with its rays,
+// timings and metadata. Rules that used to live in one command alone hold for every caller:
+//   - geometry is rebased on the camera (GeometryOptions::world_origin), so rays, hits and
+//     lights stay near 0 in float wherever the scene sits in the world;
+//   - the resolution is the job's, or 480 high at the camera's aspect ratio, bounded;
+//   - the film's memory is estimated and checked against the budget before it is made;
+//   - thread count is set once, by the session's task arena.
+#pragma once
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "integrators/registry.h"
+#include "renderer/render_scene.h"
+#include "renderer/scene_description.h"
+#include "session/job.h"
+
+namespace prism {
+
+class Session {
+ public:
+  // Loads the scene: the glTF loader (LoadError on a broken file; RequestError "scene" for a
+  // scene the file does not have), the default camera and light where the file has none,
+  // and sphere detection when asked. Nothing is built yet.
+  explicit Session(const SceneRequest& request, const SessionOptions& options = {});
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  const SceneRequest& request() const { return request_; }
+  const SceneDescription& scene() const { return scene_; }
+  // The loader's and the defaults' warnings, one line each, without the file's name (the
+  // caller names it once).
+  const std::vector<std::string>& warnings() const { return scene_.warnings; }
+  // With detect_spheres: one line per mesh replaced or kept (with the reason), then the count.
+  const std::vector<std::string>& sphere_detection_report() const { return sphere_report_; }
+  double load_seconds() const { return load_seconds_; }
+  const SessionOptions& options() const { return options_; }
+  // Adds the default camera and light where the scene has none, unless done already; every
+  // check and render does it first.
+  void add_defaults();
+
+  // Checks everything about `job` that needs no render: the integrator and its parameters,
+  // the camera, the resolution, the reference image and the film's memory. Throws
+  // RequestError naming the field. A batch checks every job before the first render.
+  void check(const RenderJob& job);
+
+  // Renders `job`: check, build or reuse the render scene, render on the session's threads.
+  // Cancelling (callbacks.cancel) returns the tiles finished so far with result.cancelled.
+  RenderOutput render(const RenderJob& job, const JobCallbacks& callbacks = {});
+
+  // The film `job` renders: its settings with the resolution settled (RequestError as check).
+  RenderSettings film(const RenderJob& job) {
+    add_defaults();
+    return plan(job).film;
+  }
+  // The index of the camera `job.camera` names (RequestError "camera" if none).
+  int camera_index(const std::string& camera);
+  // The render scene a job with these choices renders, built on first use and kept until a
+  // job needs other choices (one at a time: two BVHs would double the peak memory).
+  // `build_seconds` receives the time spent building it now (0 when reused).
+  const RenderScene& render_scene(const RenderJob& job, double* build_seconds = nullptr);
+  const ColourPipeline& colour(WorkingSpace space);
+
+  // Runs `f` on the session's worker threads, within its thread limit.
+  template <typename F>
+  decltype(auto) execute(F&& f) {
+    return arena_.execute(std::forward<F>(f));
+  }
+
+ private:
+  // What a checked job resolves to.
+  struct Plan {
+    const IntegratorInfo* integrator = nullptr;
+    ParameterValues parameters;
+    int camera = 0;
+    RenderSettings film;
+  };
+  Plan plan(const RenderJob& job) const;
+  int find_camera(const std::string& camera) const;
+  RenderMetadata metadata(const RenderJob& job, const Plan& plan, const Camera& camera,
+                          const RenderOutput& output) const;
+
+  SceneRequest request_;
+  SessionOptions options_;
+  SceneDescription scene_;
+  std::vector<std::string> sphere_report_;
+  bool defaults_added_ = false;
+  double load_seconds_ = 0.0;
+  tbb::task_arena arena_;
+  std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
+  // The render scene kept, with the choices it was built for.
+  struct BuiltScene {
+    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, int> key;
+    std::unique_ptr<RenderScene> scene;
+  };
+  BuiltScene built_;
+};
+
+}  // namespace prism

@@ -1,0 +1,291 @@
+// The BSDF interface (renderer/shading/bsdf.h): sample() draws directions with exactly the
+// density pdf() reports (a chi-square test over the sphere, as pbrt-v4's bsdfs_test does),
+// pdf() integrates to the non-delta lobes' share, eval() is reciprocal, and the delta lobes
+// carry the Fresnel weights of the analytic formulas. And the light interface: punctual
+// lights' sample() and power(), and the power-proportional light sampler.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "renderer/image/colour.h"
+#include "renderer/shading/bsdf.h"
+#include "renderer/shading/light_sampler.h"
+#include "renderer/shading/lights.h"
+
+namespace prism {
+namespace {
+
+constexpr double kPiD = std::numbers::pi;
+
+V3f spherical(double cos_theta, double phi) {
+  const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  return V3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(cos_theta));
+}
+
+Bsdf phong_bsdf(float rho_d, float ks, float n) {
+  BsdfLobes lobes;
+  lobes.diffuse_albedo = V3f(rho_d);
+  lobes.specular_colour = V3f(ks);
+  lobes.phong_exponent = n;
+  return Bsdf(V3f(0.0f, 0.0f, 1.0f), lobes);
+}
+
+// The upper tail probability of a chi-square value with k degrees of freedom, by the
+// Wilson-Hilferty normal approximation (accurate to a few per cent of p for k > 30).
+double chi_square_p_value(double chi2, int k) {
+  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+// Histograms sample() over a (cos theta, phi) grid of the whole sphere and compares it with
+// pdf() integrated over each cell (midpoint rule on a 4 x 4 sub-grid), merging cells whose
+// expected count is below 5 as the chi-square test needs; returns the p-value.
+double chi_square_test(const Bsdf& bsdf, const V3f& wo, int samples,
+                       const Bsdf* claimed_pdf = nullptr) {
+  const Bsdf& density = claimed_pdf ? *claimed_pdf : bsdf;
+  constexpr int kTheta = 20, kPhi = 40, kSub = 24;
+  std::vector<double> observed(kTheta * kPhi, 0.0), expected(kTheta * kPhi, 0.0);
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  for (int i = 0; i < samples; ++i) {
+    BsdfSample s;
+    if (!bsdf.sample(wo, u01(rng), Imath::V2f(u01(rng), u01(rng)), false, &s)) continue;
+    if (s.specular()) continue;
+    const double cos_theta = std::clamp(double(s.wi.z), -1.0, 1.0);
+    double phi = std::atan2(double(s.wi.y), double(s.wi.x));
+    if (phi < 0) phi += 2 * kPiD;
+    const int t = std::min(kTheta - 1, int((cos_theta + 1.0) * 0.5 * kTheta));
+    const int p = std::min(kPhi - 1, int(phi / (2 * kPiD) * kPhi));
+    observed[size_t(t * kPhi + p)] += 1.0;
+  }
+  for (int t = 0; t < kTheta; ++t)
+    for (int p = 0; p < kPhi; ++p) {
+      double integral = 0.0;
+      for (int a = 0; a < kSub; ++a)
+        for (int b = 0; b < kSub; ++b) {
+          const double c = -1.0 + (t + (a + 0.5) / kSub) * 2.0 / kTheta;
+          const double phi = (p + (b + 0.5) / kSub) * 2 * kPiD / kPhi;
+          integral += density.pdf(wo, spherical(c, phi));
+        }
+      const double cell = (2.0 / kTheta) * (2 * kPiD / kPhi);  // solid angle
+      expected[size_t(t * kPhi + p)] = integral / (kSub * kSub) * cell * samples;
+    }
+  double chi2 = 0.0, pooled_obs = 0.0, pooled_exp = 0.0;
+  int dof = -1;
+  for (size_t i = 0; i < expected.size(); ++i) {
+    if (expected[i] < 5.0) {
+      pooled_obs += observed[i];
+      pooled_exp += expected[i];
+      continue;
+    }
+    chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
+    ++dof;
+  }
+  if (pooled_exp >= 5.0) {
+    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+    ++dof;
+  } else {
+    EXPECT_LT(pooled_obs, 20.0) << "samples where the pdf says there are almost none";
+  }
+  return chi_square_p_value(chi2, dof);
+}
+
+TEST(Bsdf, SamplingMatchesPdfChiSquare) {
+  // Diffuse alone, Phong alone at several exponents, and mixtures, at normal and grazing
+  // views. 1e-3 per test (14 tests: a false alarm once in 70 runs of a correct sampler,
+  // with the fixed seed never).
+  const float exponents[] = {1.0f, 10.0f, 100.0f};
+  const V3f views[] = {V3f(0, 0, 1), normalize(V3f(0.7f, 0.1f, 0.3f))};
+  for (const V3f& wo : views) {
+    EXPECT_GT(chi_square_test(phong_bsdf(0.8f, 0.0f, 1.0f), wo, 400000), 1e-3);
+    for (float n : exponents) {
+      SCOPED_TRACE(n);
+      EXPECT_GT(chi_square_test(phong_bsdf(0.0f, 0.5f, n), wo, 400000), 1e-3);
+      EXPECT_GT(chi_square_test(phong_bsdf(0.4f, 0.2f, n), wo, 400000), 1e-3);
+    }
+  }
+}
+
+// The test has teeth: a sampler whose directions follow another exponent than its pdf
+// claims (10 against 12) is rejected.
+TEST(Bsdf, ChiSquareRejectsAMismatchedPdf) {
+  const Bsdf sampled = phong_bsdf(0.0f, 0.5f, 10.0f);
+  const Bsdf claimed = phong_bsdf(0.0f, 0.5f, 12.0f);
+  EXPECT_LT(chi_square_test(sampled, V3f(0, 0, 1), 400000, &claimed), 1e-6);
+}
+
+TEST(Bsdf, PdfIntegratesToTheNonDeltaShare) {
+  const V3f wo = normalize(V3f(0.3f, -0.2f, 0.9f));
+  for (float n : {0.5f, 8.0f, 64.0f}) {
+    const Bsdf bsdf = phong_bsdf(0.5f, 0.3f, n);
+    // Midpoint rule over the hemisphere in (cos theta, phi): 400 x 800 cells.
+    double total = 0.0;
+    constexpr int kT = 400, kP = 800;
+    for (int t = 0; t < kT; ++t)
+      for (int p = 0; p < kP; ++p)
+        total += bsdf.pdf(wo, spherical((t + 0.5) / kT, (p + 0.5) * 2 * kPiD / kP));
+    total *= (1.0 / kT) * (2 * kPiD / kP);
+    // Below the horizon the Phong lobe about R loses some of its mass: at most 1.
+    EXPECT_LE(total, 1.0 + 2e-3) << n;
+    if (n <= 0.5f) {
+      EXPECT_GT(total, 0.9) << n;
+    }
+  }
+  // No delta lobes: the diffuse pdf alone integrates to 1.
+  const Bsdf diffuse = phong_bsdf(0.7f, 0.0f, 1.0f);
+  double total = 0.0;
+  for (int t = 0; t < 400; ++t)
+    for (int p = 0; p < 400; ++p)
+      total += diffuse.pdf(wo, spherical((t + 0.5) / 400, (p + 0.5) * 2 * kPiD / 400));
+  EXPECT_NEAR(total * (1.0 / 400) * (2 * kPiD / 400), 1.0, 1e-4);
+}
+
+TEST(Bsdf, SampleAgreesWithEvalAndPdfAndEvalIsReciprocal) {
+  const Bsdf bsdf = phong_bsdf(0.3f, 0.4f, 20.0f);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  const V3f wo = normalize(V3f(0.2f, 0.4f, 0.8f));
+  int taken = 0;
+  for (int i = 0; i < 2000; ++i) {
+    BsdfSample s;
+    if (!bsdf.sample(wo, u01(rng), Imath::V2f(u01(rng), u01(rng)), false, &s)) continue;
+    ++taken;
+    EXPECT_GT(s.wi.z, 0.0f);
+    const V3f f = bsdf.eval(wo, s.wi);
+    EXPECT_FLOAT_EQ(s.f.x, f.x);
+    EXPECT_FLOAT_EQ(s.pdf, bsdf.pdf(wo, s.wi));
+    const V3f back = bsdf.eval(s.wi, wo);
+    EXPECT_NEAR(back.x, f.x, 1e-5f * std::max(1.0f, f.x));
+  }
+  EXPECT_GT(taken, 1800);
+  EXPECT_EQ(bsdf.flags(), kDiffuseReflection | kGlossyReflection);
+}
+
+// Lambert: eval is rho / pi, whatever the directions, and zero below the surface.
+TEST(Bsdf, LambertValue) {
+  const Bsdf bsdf = phong_bsdf(0.6f, 0.0f, 1.0f);
+  EXPECT_FLOAT_EQ(bsdf.eval(V3f(0, 0, 1), normalize(V3f(1, 1, 1))).x, 0.6f / float(kPiD));
+  EXPECT_EQ(bsdf.eval(V3f(0, 0, 1), V3f(0, 0, -1)).x, 0.0f);
+}
+
+// A clear dielectric of ior 1.5: head-on F = ((n - 1) / (n + 1))^2 = 0.04 reflected and 0.96
+// refracted straight through; past the critical angle from inside, total internal
+// reflection (one lobe, weight 1).
+TEST(Bsdf, DielectricDeltaLobesCarryFresnel) {
+  BsdfLobes glass;
+  glass.transmission = 1.0f;
+  glass.ior = 1.5f;
+  const Bsdf bsdf(V3f(0, 0, 1), glass);
+  EXPECT_EQ(bsdf.flags(), kSpecularReflection | kSpecularTransmission);
+  SpecularLobe lobes[2];
+  const V3f n(0, 0, 1);
+  ASSERT_EQ(2, (bsdf.specular_lobes<true, true>(V3f(0, 0, 1), n, false, lobes)));
+  EXPECT_TRUE(lobes[0].transmission);
+  EXPECT_NEAR(lobes[0].weight().x, 0.96f, 1e-6f);
+  EXPECT_NEAR(lobes[0].wi.z, -1.0f, 1e-6f);
+  EXPECT_FALSE(lobes[1].transmission);
+  EXPECT_NEAR(lobes[1].weight().x, 0.04f, 1e-6f);
+  EXPECT_NEAR(lobes[1].wi.z, 1.0f, 1e-6f);
+  // From inside (back face), 60 degrees from the normal: sin 60 * 1.5 > 1.
+  const V3f wo = V3f(std::sin(1.0472f), 0.0f, std::cos(1.0472f));
+  ASSERT_EQ(1, (bsdf.specular_lobes<true, true>(wo, n, true, lobes)));
+  EXPECT_FALSE(lobes[0].transmission);
+  EXPECT_FLOAT_EQ(lobes[0].weight().x, 1.0f);
+  // Sampling picks the lobes in proportion to their weights, with those probabilities.
+  BsdfSample s;
+  ASSERT_TRUE(bsdf.sample(V3f(0, 0, 1), 0.5f, Imath::V2f(0.5f), false, &s));
+  EXPECT_EQ(s.lobe, kSpecularTransmission);
+  EXPECT_NEAR(s.pdf, 0.96f, 1e-6f);
+  ASSERT_TRUE(bsdf.sample(V3f(0, 0, 1), 0.99f, Imath::V2f(0.5f), false, &s));
+  EXPECT_EQ(s.lobe, kSpecularReflection);
+  EXPECT_NEAR(s.pdf, 0.04f, 1e-6f);
+}
+
+// A perfect mirror of F0 = 1 reflects everything at every angle (Schlick with F0 = 1).
+TEST(Bsdf, MirrorWeightIsSchlick) {
+  BsdfLobes mirror;
+  mirror.mirror = true;
+  mirror.specular_colour = V3f(0.5f);
+  const Bsdf bsdf(V3f(0, 0, 1), mirror);
+  SpecularLobe lobes[2];
+  const V3f wo = normalize(V3f(0.6f, 0.0f, 0.8f));  // cos 0.8
+  ASSERT_EQ(1, (bsdf.specular_lobes<true, true>(wo, V3f(0, 0, 1), false, lobes)));
+  const float schlick = 0.5f + 0.5f * std::pow(1.0f - 0.8f, 5.0f);
+  EXPECT_NEAR(lobes[0].weight().x, schlick, 1e-6f);
+  EXPECT_NEAR(lobes[0].wi.x, -0.6f, 1e-6f);
+  EXPECT_NEAR(lobes[0].wi.z, 0.8f, 1e-6f);
+  // Specialised away, the lobe is not there.
+  EXPECT_EQ(0, (bsdf.specular_lobes<false, true>(wo, V3f(0, 0, 1), false, lobes)));
+}
+
+Light punctual(LightType type, float intensity) {
+  Light l;
+  l.type = type;
+  l.intensity = intensity;
+  l.position = V3d(0, 2, 0);
+  l.direction = V3d(0, -1, 0);
+  l.inner_cone_angle = 0.0;
+  l.outer_cone_angle = kPiD / 4;
+  return l;
+}
+
+// A point light of I candela: sample() gives I / d^2 along the unit direction with pdf 1
+// (a delta light), and its power is 4 pi I.
+TEST(Lights, PunctualSampleAndPower) {
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  const LightSource point(punctual(LightType::point, 3.0f), colour);
+  LightSample s;
+  ASSERT_TRUE(point.sample(V3f(0, 0, 0), Imath::V2f(0.5f), &s));
+  EXPECT_NEAR(s.radiance.x, 3.0f / 4.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(s.wi.y, 1.0f);
+  EXPECT_FLOAT_EQ(s.distance, 2.0f);
+  EXPECT_EQ(s.pdf, 1.0f);
+  EXPECT_TRUE(point.is_delta());
+  EXPECT_EQ(point.pdf(V3f(0.0f), V3f(0, 1, 0)), 0.0f);
+  EXPECT_EQ(point.emitted(V3f(0.0f), V3f(0, 1, 0)).x, 0.0f);
+  EXPECT_NEAR(point.power(1.0f).x, 4.0f * float(kPiD) * 3.0f, 1e-4f);
+  // A sun of E lux over a scene of radius r: E pi r^2.
+  const LightSource sun(punctual(LightType::directional, 2.0f), colour);
+  EXPECT_NEAR(sun.power(10.0f).x, 2.0f * float(kPiD) * 100.0f, 1e-3f);
+  // A spot with no smooth band (inner 0): 2 pi (1 - cos_outer / 2 - 1 / 2) I.
+  const LightSource spot(punctual(LightType::spot, 1.0f), colour);
+  EXPECT_NEAR(spot.power(1.0f).x,
+              2.0f * float(kPiD) * (1.0f - 0.5f * (1.0f + std::cos(float(kPiD) / 4))), 1e-5f);
+}
+
+// Lights are chosen in proportion to their power: pmf from the powers, sample() frequencies
+// over stratified u matching it, a zero-power light never chosen, no lights no choice.
+TEST(LightSampler, ChoosesInProportionToPower) {
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  std::vector<LightSource> lights;
+  for (float i : {1.0f, 3.0f, 0.0f, 4.0f})
+    lights.emplace_back(punctual(LightType::point, i), colour);
+  const LightSampler sampler(lights, 1.0f);
+  EXPECT_NEAR(sampler.pmf(0), 1.0f / 8.0f, 1e-6f);
+  EXPECT_NEAR(sampler.pmf(1), 3.0f / 8.0f, 1e-6f);
+  EXPECT_EQ(sampler.pmf(2), 0.0f);
+  EXPECT_NEAR(sampler.pmf(3), 4.0f / 8.0f, 1e-6f);
+  EXPECT_EQ(sampler.pmf(4), 0.0f);
+  std::vector<int> counts(4, 0);
+  constexpr int kN = 80000;
+  for (int k = 0; k < kN; ++k) {
+    SampledLight chosen;
+    ASSERT_TRUE(sampler.sample((k + 0.5f) / kN, &chosen));
+    ++counts[chosen.index];
+    EXPECT_EQ(chosen.pmf, sampler.pmf(chosen.index));
+  }
+  EXPECT_EQ(counts[2], 0);
+  EXPECT_NEAR(counts[0], kN / 8, 2);
+  EXPECT_NEAR(counts[1], 3 * kN / 8, 2);
+  EXPECT_NEAR(counts[3], kN / 2, 2);
+  const LightSampler none(std::vector<LightSource>{}, 1.0f);
+  SampledLight chosen;
+  EXPECT_FALSE(none.sample(0.5f, &chosen));
+  EXPECT_TRUE(none.empty());
+}
+
+}  // namespace
+}  // namespace prism
