@@ -1,5 +1,8 @@
 #include "renderer/render_scene.h"
 
+#include <memory>
+#include <utility>
+
 #include "renderer/image/colour.h"
 
 namespace prism {
@@ -19,10 +22,14 @@ std::vector<Material> make_materials(const SceneDescription& scene,
 
 RenderScene::RenderScene(const SceneDescription& scene, const GeometryOptions& options,
                          const ColourPipeline& colour)
+    : RenderScene(std::make_shared<EmbreeDevice>(), scene, options, colour) {}
+
+RenderScene::RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
+                         const GeometryOptions& options, const ColourPipeline& colour)
     : textures_(make_textures(scene.textures, colour)),
       materials_(make_materials(scene, textures_, colour)),
       default_material_(make_material(MaterialDescription{}, textures_, colour)),
-      geometry_(scene, options, materials_),
+      geometry_(std::move(device), scene, options, materials_),
       features_(derive_scene_features(scene, options.spheres)) {
   lights_.reserve(scene.lights.size());
   for (Light light : scene.lights) {

@@ -5,13 +5,14 @@
 // GeometryOptions::world_origin; camera() makes cameras whose rays are too.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "renderer/camera.h"
 #include "renderer/geometry/embree_scene.h"
+#include "renderer/scene_features.h"
 #include "renderer/shading/lights.h"
 #include "renderer/shading/material.h"
-#include "renderer/scene_features.h"
 #include "renderer/shading/texture.h"
 
 namespace prism {
@@ -20,6 +21,10 @@ class ColourPipeline;
 
 class RenderScene {
  public:
+  // Builds the geometry on `device` (not null), which it keeps alive.
+  RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
+              const GeometryOptions& options, const ColourPipeline& colour);
+  // On an Embree device of its own.
   RenderScene(const SceneDescription& scene, const GeometryOptions& options,
               const ColourPipeline& colour);
 
