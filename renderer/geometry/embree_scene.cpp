@@ -31,7 +31,9 @@ struct EmbreeScene::Instance {
 };
 
 struct EmbreeScene::GeometryRecord {
-  enum class Kind { triangles, instance, analytic_spheres, point_spheres, sphere_mesh };
+  // The triangle kinds first, in one unsigned byte: resolve_hit's switch then reaches them
+  // with one comparison, where an int enum in another order took four more instructions a hit.
+  enum class Kind : uint8_t { triangles, sphere_mesh, instance, analytic_spheres, point_spheres };
   Kind kind = Kind::triangles;
   const PreparedMesh* mesh = nullptr;  // triangles, sphere_mesh
   size_t index = 0;                    // instance: into instances_; sphere_mesh: into spheres_
@@ -55,7 +57,7 @@ struct EmbreeScene::MeshPlan {
   static constexpr size_t kNoJob = ~size_t(0);
 
   std::vector<int> uses;                     // by mesh
-  std::vector<Job> jobs;
+  std::vector<Job> jobs;                     // each node's baked primitives, each prototype's once
   std::vector<Placement> placements;         // by node (SceneDescription::instances)
   std::vector<size_t> prototype_jobs;        // by mesh: its first job, or kNoJob
   std::vector<const Prototype*> prototypes;  // by mesh, once add_prototypes has run
@@ -516,6 +518,53 @@ void EmbreeScene::intersect_packet(const Ray* rays, int count, SurfaceHit* hits,
   }
 }
 
+// Inline, as resolve_sphere_hit below: resolve_hit is their only caller, and a member function,
+// which has external linkage, is otherwise kept out of line (0.25 % more instructions in a whitted
+// render of scenes/spheres.gltf).
+inline void EmbreeScene::resolve_instance_hit(const Instance& instance, const RTCRayHit& rh,
+                                              SurfaceHit* hit) const {
+  fill_triangle_hit(*instance.prototype->geometries[rh.hit.geomID], rh, hit);
+  // Everything above is in object space; normals move with the inverse transpose.
+  V3f p;
+  instance.object_to_world.multVecMatrix(hit->position, p);
+  hit->object_to_world = &instance.object_to_world;
+  hit->position = p;
+  instance.object_to_world.multDirMatrix(hit->terminator_offset, p);
+  hit->terminator_offset = p;
+  V3f n;
+  instance.normal_to_world.multDirMatrix(hit->geometric_normal, n);
+  hit->geometric_normal = normalize(n);
+  instance.normal_to_world.multDirMatrix(hit->shading_normal, n);
+  hit->shading_normal = n;
+}
+
+inline void EmbreeScene::resolve_sphere_hit(bool embree_points, const RTCRayHit& rh,
+                                            SurfaceHit* hit) const {
+  const Sphere& s = spheres_[rh.hit.primID];
+  // The intersector's Ng is hit point - centre, computed more precisely than o + t d - centre
+  // could be here; the hit point is projected back onto the sphere along it, in double, so it
+  // is on the surface to the rounding of its coordinates instead of an error growing with t
+  // or with the radius.
+  const V3d radial = V3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+  hit->position = V3f(s.centre + s.radius * radial);
+  hit->geometric_normal = V3f(radial);
+  hit->shading_normal = hit->geometric_normal;
+  // Embree's own sphere test works in float on coordinates of size |centre| + r: near the
+  // surface it cannot tell a ray's start from the surface closer than a few ulps of that
+  // size, so a ray leaving by less could find the sphere again (a wall made of an r = 1e5
+  // sphere self-shadows: tests/stress/04). Measured on that wall: 2^-26 of it is too little
+  // (every lit pixel self-shadowed), 2^-25 enough; 2^-22 keeps a margin of 8. The robust
+  // analytic test needs nothing beyond the hit point's rounding.
+  hit->surface_error =
+      embree_points
+          ? 0x1.0p-22f * static_cast<float>(std::fabs(s.centre.x) + std::fabs(s.centre.y) +
+                                            std::fabs(s.centre.z) + s.radius)
+          : 0.0f;
+  hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
+  hit->material = s.material;
+  hit->attributes = nullptr;
+}
+
 void EmbreeScene::resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const {
   hit->t = rh.ray.tfar;
   hit->object_to_world = nullptr;
@@ -549,50 +598,6 @@ void EmbreeScene::resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* h
   hit->back_face = cos_incidence > 0.0f;
   hit->cos_incidence = std::fabs(cos_incidence);
   hit->cone_width = ray.cone_width + ray.cone_spread * hit->t;
-}
-
-void EmbreeScene::resolve_instance_hit(const Instance& instance, const RTCRayHit& rh,
-                                       SurfaceHit* hit) const {
-  fill_triangle_hit(*instance.prototype->geometries[rh.hit.geomID], rh, hit);
-  // Everything above is in object space; normals move with the inverse transpose.
-  V3f p;
-  instance.object_to_world.multVecMatrix(hit->position, p);
-  hit->object_to_world = &instance.object_to_world;
-  hit->position = p;
-  instance.object_to_world.multDirMatrix(hit->terminator_offset, p);
-  hit->terminator_offset = p;
-  V3f n;
-  instance.normal_to_world.multDirMatrix(hit->geometric_normal, n);
-  hit->geometric_normal = normalize(n);
-  instance.normal_to_world.multDirMatrix(hit->shading_normal, n);
-  hit->shading_normal = n;
-}
-
-void EmbreeScene::resolve_sphere_hit(bool embree_points, const RTCRayHit& rh,
-                                     SurfaceHit* hit) const {
-  const Sphere& s = spheres_[rh.hit.primID];
-  // The intersector's Ng is hit point - centre, computed more precisely than o + t d - centre
-  // could be here; the hit point is projected back onto the sphere along it, in double, so it
-  // is on the surface to the rounding of its coordinates instead of an error growing with t
-  // or with the radius.
-  const V3d radial = V3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
-  hit->position = V3f(s.centre + s.radius * radial);
-  hit->geometric_normal = V3f(radial);
-  hit->shading_normal = hit->geometric_normal;
-  // Embree's own sphere test works in float on coordinates of size |centre| + r: near the
-  // surface it cannot tell a ray's start from the surface closer than a few ulps of that
-  // size, so a ray leaving by less could find the sphere again (a wall made of an r = 1e5
-  // sphere self-shadows: tests/stress/04). Measured on that wall: 2^-26 of it is too little
-  // (every lit pixel self-shadowed), 2^-25 enough; 2^-22 keeps a margin of 8. The robust
-  // analytic test needs nothing beyond the hit point's rounding.
-  hit->surface_error =
-      embree_points
-          ? 0x1.0p-22f * static_cast<float>(std::fabs(s.centre.x) + std::fabs(s.centre.y) +
-                                            std::fabs(s.centre.z) + s.radius)
-          : 0.0f;
-  hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
-  hit->material = s.material;
-  hit->attributes = nullptr;
 }
 
 void EmbreeScene::occluded_packet(const Ray* rays, int count, bool* blocked) const {
