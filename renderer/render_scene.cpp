@@ -1,6 +1,8 @@
 #include "renderer/render_scene.h"
 
 #include <cmath>
+#include <memory>
+#include <utility>
 
 #include "renderer/image/colour.h"
 
@@ -21,10 +23,15 @@ std::vector<Material> make_materials(const SceneDescription& scene,
 
 RenderScene::RenderScene(const SceneDescription& scene, const GeometryOptions& options,
                          const ColourPipeline& colour, const Environment& environment)
+    : RenderScene(std::make_shared<EmbreeDevice>(), scene, options, colour, environment) {}
+
+RenderScene::RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
+                         const GeometryOptions& options, const ColourPipeline& colour,
+                         const Environment& environment)
     : textures_(make_textures(scene.textures, colour)),
       materials_(make_materials(scene, textures_, colour)),
       default_material_(make_material(MaterialDescription{}, textures_, colour)),
-      geometry_(scene, options, materials_),
+      geometry_(std::move(device), scene, options, materials_),
       environment_(environment),
       features_(derive_scene_features(scene, options.spheres)) {
   lights_.reserve(scene.lights.size());

@@ -5,6 +5,7 @@
 // GeometryOptions::world_origin; camera() makes cameras whose rays are too.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "renderer/camera.h"
@@ -22,6 +23,11 @@ class ColourPipeline;
 
 class RenderScene {
  public:
+  // Builds the geometry on `device` (not null), which it keeps alive.
+  RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
+              const GeometryOptions& options, const ColourPipeline& colour,
+              const Environment& environment = {});
+  // On an Embree device of its own.
   RenderScene(const SceneDescription& scene, const GeometryOptions& options,
               const ColourPipeline& colour, const Environment& environment = {});
 

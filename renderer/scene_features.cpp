@@ -95,7 +95,7 @@ size_t triangle_count(const Mesh& mesh) {
 bool one_vertex_normal(const Mesh& mesh, V3f* normal) {
   *normal = V3f(0.0f);
   for (const Primitive& p : mesh.primitives) {
-    // Normals not one per vertex are dropped: the primitive is shaded flat (embree_scene.cpp).
+    // Normals not one per vertex are dropped: the primitive is shaded flat (mesh_preparation.h).
     if (p.normals.size() != p.positions.size()) continue;
     for (const V3f& n : p.normals) {
       // A zero or non-finite normal is rebuilt from the faces around it.
@@ -151,7 +151,7 @@ bool flat_and_lit_off_plane(const SceneDescription& scene, const MeshInstance& i
   for (const V3d& p : points)
     if (std::abs((p - origin).dot(normal)) > tolerance) return false;
   if (vertex_normal != V3f(0.0f)) {
-    // Normals move with the inverse transpose (embree_scene.cpp).
+    // Normals move with the inverse transpose (mesh_preparation.cpp, embree_scene.cpp).
     V3d placed;
     instance.object_to_world.inverse().transposed().multDirMatrix(V3d(vertex_normal), placed);
     const double length = placed.length();

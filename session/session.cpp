@@ -236,7 +236,8 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     // Rebased on the camera: rays, hits and lights stay near 0 in float wherever the
     // scene sits in the world (docs/stress-shading.md, huge coordinates).
     geometry.world_origin = camera_position(scene_.cameras[static_cast<size_t>(camera)]);
-    built_.scene = std::make_unique<RenderScene>(scene_, geometry, colours,
+    if (!device_) device_ = std::make_shared<EmbreeDevice>();
+    built_.scene = std::make_unique<RenderScene>(device_, scene_, geometry, colours,
                                                  Environment(Imath::V3f(job.background)));
   });
   built_.key = key;

@@ -25,6 +25,7 @@
 #include <tbb/task_arena.h>
 
 #include "integrators/registry.h"
+#include "renderer/geometry/embree_device.h"
 #include "renderer/render_scene.h"
 #include "renderer/scene_description.h"
 #include "session/job.h"
@@ -102,6 +103,8 @@ class Session {
   bool defaults_added_ = false;
   double load_seconds_ = 0.0;
   tbb::task_arena arena_;
+  // One Embree device for every render scene the session builds.
+  std::shared_ptr<EmbreeDevice> device_;
   std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
   // The render scene kept, with the choices it was built for.
   struct BuiltScene {

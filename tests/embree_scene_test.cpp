@@ -1,6 +1,9 @@
 // The Embree scene: baking versus instancing, mirrored transforms, and what a hit reports.
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <stdexcept>
+
 #include "renderer/geometry/embree_scene.h"
 #include "renderer/geometry/sphere_mesh.h"
 
@@ -132,6 +135,55 @@ TEST(EmbreeScene, SphereHitsReportBackFacesFromInside) {
     segment.tfar = 13.0f;
     EXPECT_TRUE(geometry.occluded(segment));
   }
+}
+
+// Scenes built on one device trace as scenes on devices of their own, and keep the device
+// alive after its maker lets it go.
+TEST(EmbreeScene, ScenesShareOneDeviceAndKeepItAlive) {
+  SceneDescription scene;
+  scene.meshes = {triangle_mesh()};
+  scene.instances = {{0, translate_scale(V3d(0, 0, 0), V3d(2, 2, 2)), "a"}};
+  scene.spheres.push_back(Sphere{V3d(4, 0, 0), 1.0, 2, "s"});
+  auto device = std::make_shared<EmbreeDevice>();
+  auto first = std::make_unique<EmbreeScene>(device, scene, GeometryOptions{});
+  const EmbreeScene second(device, scene, GeometryOptions{});
+  EXPECT_EQ(first->device(), device);
+  EXPECT_EQ(device.use_count(), 3);
+  device.reset();
+  EXPECT_EQ(second.device().use_count(), 2);
+  first.reset();
+  EXPECT_EQ(second.device().use_count(), 1);
+
+  const EmbreeScene own(scene, GeometryOptions{});
+  EXPECT_NE(own.device(), second.device());
+  for (float x : {0.5f, 4.0f, 4.5f}) {
+    SCOPED_TRACE(x);
+    SurfaceHit a, b;
+    ASSERT_TRUE(second.intersect(ray_down_z(x, 0.2f), &a));
+    ASSERT_TRUE(own.intersect(ray_down_z(x, 0.2f), &b));
+    EXPECT_EQ(a.t, b.t);
+    EXPECT_EQ(a.position, b.position);
+    EXPECT_EQ(a.material, b.material);
+  }
+}
+
+// Errors Embree reports on a device reach every watch open on it, and only those.
+TEST(EmbreeDevice, ErrorWatchesSeeTheErrorsReportedWhileTheyAreOpen) {
+  EmbreeDevice device;
+  const auto bad_type = static_cast<RTCGeometryType>(1000);
+  EXPECT_EQ(rtcNewGeometry(device.get(), bad_type), nullptr);  // no watch: dropped
+  EmbreeDevice::ErrorWatch watch(device);
+  EXPECT_EQ(watch.first_error(), "");
+  EXPECT_NO_THROW(watch.throw_if_failed());
+  {
+    EmbreeDevice::ErrorWatch inner(device);
+    EXPECT_EQ(rtcNewGeometry(device.get(), bad_type), nullptr);
+    EXPECT_NE(inner.first_error(), "");
+  }
+  EXPECT_NE(watch.first_error(), "");
+  EXPECT_THROW(watch.throw_if_failed(), std::runtime_error);
+  const EmbreeDevice::ErrorWatch later(device);
+  EXPECT_EQ(later.first_error(), "");
 }
 
 }  // namespace

@@ -1,189 +1,27 @@
 #include "renderer/geometry/embree_scene.h"
 
-#include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
-#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <tbb/parallel_for.h>
 
 #include "renderer/geometry/embree_ray.h"
-#include "renderer/math.h"
+#include "renderer/geometry/mesh_preparation.h"
 #include "renderer/geometry/sphere_mesh.h"
+#include "renderer/math.h"
 
 namespace prism {
 
 using Imath::M44f;
-using Imath::V2f;
-
-// Vertex data as Embree sees it, kept for rebuilding hit points and interpolating normals,
-// and the attributes the material reads (texture coordinates, colours, tangents). Positions
-// carry one padding element: Embree reads 16 bytes per float3 vertex, 4 past the end of the
-// last one.
-struct EmbreeScene::TriangleMesh {
-  std::vector<V3f> positions;
-  std::vector<V3f> normals;  // unit or zero; empty: shade with the geometric normal (flat)
-  VertexAttributes attributes;
-  bool has_attributes = false;  // any of them: hits point the material at `attributes`
-  std::vector<uint32_t> indices;
-  // Per triangle: the unit normal of its float vertices, formed in double. Embree's float Ng
-  // of a long sliver triangle can point well off the plane, or be zero, and a ray offset
-  // along a wrong normal re-hits the triangle it leaves (tests/stress/02_reintersect_test.cpp).
-  // Formed once here rather than at every hit, where it cost more than the rest of the hit.
-  // Out of the counter-clockwise front face, as Embree's Ng.
-  std::vector<V3f> face_normals;
-  int material = -1;
-  size_t vertex_count() const { return positions.empty() ? 0 : positions.size() - 1; }
-
-  // Once the triangles are final (cleaned).
-  void compute_face_normals() {
-    face_normals.resize(indices.size() / 3);
-    for (size_t t = 0; t < face_normals.size(); ++t) {
-      const uint32_t* tri = &indices[3 * t];
-      const V3d p0(positions[tri[0]]), p1(positions[tri[1]]), p2(positions[tri[2]]);
-      face_normals[t] = V3f((p1 - p0).cross(p2 - p0).normalized());
-    }
-  }
-
-  // Takes the primitive's attributes that have one value per vertex (the loader checks
-  // that; a primitive made in code may not), once `positions` is final.
-  void take_attributes(const Primitive& p, const std::vector<Imath::V4f>& tangents) {
-    const size_t n = p.positions.size();
-    if (p.uv0.size() == n) attributes.texcoords[0] = p.uv0;
-    if (p.uv1.size() == n) attributes.texcoords[1] = p.uv1;
-    if (p.colours.size() == n) attributes.colours = p.colours;
-    if (tangents.size() == n) attributes.tangents = tangents;
-    attributes.positions = positions.data();
-    has_attributes = !attributes.empty();
-  }
-};
-
-namespace {
-
-struct CleaningCounts {
-  size_t degenerate = 0;
-  size_t nonfinite = 0;
-  size_t normals_repaired = 0;
-};
-
-// Makes a triangle list safe to hand to Embree and to shade, in the space Embree will see
-// it in (world for baked meshes, object for instanced ones):
-//   - drops triangles with an index out of range or repeated, with a non-finite vertex, or
-//     with zero area: twice the area |e1 x e2|, in double, at most 1e-12 times the longest
-//     edge squared, i.e. a height below 1e-12 of the base, far under float's resolution of
-//     1.2e-7, so only triangles that are collinear to rounding go. Embree would never report
-//     a useful hit on them (Ng is zero or noise), and garbage indices could crash it;
-//   - zeroes the positions of vertices no kept triangle uses, so no NaN reaches Embree;
-//   - drops normals that are not one per vertex (the primitive is shaded flat), and rebuilds
-//     each zero or non-finite normal of a used vertex as the area-weighted mean of the faces
-//     around it (what a loader would generate), normalising the rest.
-// The kept triangles keep their order, so a mesh that differs from a clean one only by the
-// dropped triangles and unused vertices gives Embree the same primitives and the same BVH.
-void clean_mesh(std::vector<V3f>* positions, std::vector<V3f>* normals,
-                std::vector<uint32_t>* indices, CleaningCounts* counts) {
-  const size_t vertices = positions->size();
-  std::vector<uint32_t> kept;
-  kept.reserve(indices->size());
-  std::vector<char> used(vertices, 0);
-  for (size_t i = 0; i + 2 < indices->size(); i += 3) {
-    const uint32_t a = (*indices)[i], b = (*indices)[i + 1], c = (*indices)[i + 2];
-    if (a >= vertices || b >= vertices || c >= vertices || a == b || b == c || a == c) {
-      ++counts->degenerate;
-      continue;
-    }
-    const V3f& pa = (*positions)[a];
-    const V3f& pb = (*positions)[b];
-    const V3f& pc = (*positions)[c];
-    if (!is_finite(pa) || !is_finite(pb) || !is_finite(pc)) {
-      ++counts->nonfinite;
-      continue;
-    }
-    const V3d e1 = V3d(pb) - V3d(pa), e2 = V3d(pc) - V3d(pa), e3 = V3d(pc) - V3d(pb);
-    const double longest2 = std::max({e1.length2(), e2.length2(), e3.length2()});
-    // Finite float vertices keep every double here finite.
-    if (!(e1.cross(e2).length2() > 1e-24 * longest2 * longest2)) {
-      ++counts->degenerate;
-      continue;
-    }
-    kept.insert(kept.end(), {a, b, c});
-    used[a] = used[b] = used[c] = 1;
-  }
-  // A trailing partial triangle is not a triangle.
-  if (indices->size() % 3 != 0) ++counts->degenerate;
-  *indices = std::move(kept);
-  for (size_t v = 0; v < vertices; ++v)
-    if (!used[v] && !is_finite((*positions)[v])) (*positions)[v] = V3f(0.0f);
-
-  if (normals->empty()) return;
-  if (normals->size() != vertices) {
-    normals->clear();
-    return;
-  }
-  std::vector<char> broken(vertices, 0);
-  bool any_broken = false;
-  for (size_t v = 0; v < vertices; ++v) {
-    V3f& n = (*normals)[v];
-    const double len2 = V3d(n).length2();
-    if (is_finite(n) && len2 > 1e-30) {
-      n = V3f(V3d(n) / std::sqrt(len2));
-    } else {
-      n = V3f(0.0f);
-      broken[v] = used[v];
-      any_broken = any_broken || used[v];
-    }
-  }
-  if (!any_broken) return;
-  std::vector<V3d> sum(vertices, V3d(0.0));
-  for (size_t i = 0; i < indices->size(); i += 3) {
-    const uint32_t t[3] = {(*indices)[i], (*indices)[i + 1], (*indices)[i + 2]};
-    // Counter-clockwise: the cross product points out of the front face, its length is
-    // twice the area, which weights the mean.
-    const V3d face = (V3d((*positions)[t[1]]) - V3d((*positions)[t[0]]))
-                         .cross(V3d((*positions)[t[2]]) - V3d((*positions)[t[0]]));
-    for (uint32_t v : t)
-      if (broken[v]) sum[v] += face;
-  }
-  for (size_t v = 0; v < vertices; ++v) {
-    if (!broken[v]) continue;
-    ++counts->normals_repaired;
-    const double len = sum[v].length();
-    // Faces that cancel (a vertex of two back-to-back faces) leave it zero, and the hit
-    // falls back to the geometric normal there.
-    if (len > 0.0) (*normals)[v] = V3f(sum[v] / len);
-  }
-}
-
-}  // namespace
-
-// The primitive as is, in its own space, cleaned and padded for Embree's read-ahead.
-std::unique_ptr<EmbreeScene::TriangleMesh> EmbreeScene::copy_for_embree(const Primitive& p,
-                                                                        size_t* dropped_degenerate,
-                                                                        size_t* dropped_nonfinite) {
-  auto mesh = std::make_unique<EmbreeScene::TriangleMesh>();
-  mesh->positions.reserve(p.positions.size() + 1);
-  mesh->positions = p.positions;
-  mesh->normals = p.normals;
-  mesh->indices = p.indices;
-  mesh->material = p.material;
-  CleaningCounts counts;
-  clean_mesh(&mesh->positions, &mesh->normals, &mesh->indices, &counts);
-  *dropped_degenerate += counts.degenerate;
-  *dropped_nonfinite += counts.nonfinite;
-  // The constructor copies several primitives at once.
-  std::atomic_ref<size_t>(statistics_.normals_repaired) += counts.normals_repaired;
-  mesh->compute_face_normals();
-  mesh->positions.push_back(V3f(0.0f));
-  mesh->take_attributes(p, p.tangents);
-  return mesh;
-}
 
 // A mesh placed by several nodes: its own BVH, in object space, shared by its instances.
 struct EmbreeScene::Prototype {
   RTCScene scene = nullptr;
-  std::vector<std::unique_ptr<TriangleMesh>> geometries;  // by geomID in `scene`
+  std::vector<std::unique_ptr<PreparedMesh>> geometries;  // by geomID in `scene`
   std::vector<uint8_t> single_sided;                      // by geomID (BackFaceCulling)
+  // What each placement adds to GeometryStatistics.
+  size_t triangles = 0, degenerate = 0, nonfinite = 0;
 };
 
 struct EmbreeScene::Instance {
@@ -193,27 +31,41 @@ struct EmbreeScene::Instance {
 };
 
 struct EmbreeScene::GeometryRecord {
-  enum class Kind { triangles, instance, analytic_spheres, point_spheres, sphere_mesh };
+  // The triangle kinds first, in one unsigned byte: resolve_hit's switch then reaches them
+  // with one comparison, where an int enum in another order took four more instructions a hit.
+  enum class Kind : uint8_t { triangles, sphere_mesh, instance, analytic_spheres, point_spheres };
   Kind kind = Kind::triangles;
-  const TriangleMesh* mesh = nullptr;  // triangles, sphere_mesh
+  const PreparedMesh* mesh = nullptr;  // triangles, sphere_mesh
   size_t index = 0;                    // instance: into instances_; sphere_mesh: into spheres_
 };
 
-namespace {
+// How many nodes place each mesh decides baking or instancing: a mesh placed once is baked
+// into the world, one placed by several is a prototype its nodes instance. Every primitive to
+// prepare, baked or prototype, is one job.
+struct EmbreeScene::MeshPlan {
+  struct Job {
+    const Primitive* primitive = nullptr;
+    M44d to_shifted;  // baked only
+    bool baked = false;
+    std::unique_ptr<PreparedMesh> mesh;
+  };
+  struct Placement {
+    bool placed = false;  // false: the node places nothing that can be hit
+    M44d to_shifted;
+    size_t first_job = 0;  // baked: its primitives' jobs, in order
+  };
+  static constexpr size_t kNoJob = ~size_t(0);
 
-// Where Embree's first error goes; Embree may report from several threads at once (the
-// prototypes are committed in parallel).
-struct EmbreeErrors {
-  std::mutex mutex;
-  std::string first;
+  std::vector<int> uses;                     // by mesh
+  std::vector<Job> jobs;                     // each node's baked primitives, each prototype's once
+  std::vector<Placement> placements;         // by node (SceneDescription::instances)
+  std::vector<size_t> prototype_jobs;        // by mesh: its first job, or kNoJob
+  std::vector<const Prototype*> prototypes;  // by mesh, once add_prototypes has run
+
+  bool baked(int mesh) const { return uses[static_cast<size_t>(mesh)] == 1; }
 };
 
-void report_embree_error(void* errors_out, RTCError code, const char* message) {
-  if (code == RTC_ERROR_NONE) return;
-  auto* errors = static_cast<EmbreeErrors*>(errors_out);
-  const std::lock_guard<std::mutex> lock(errors->mutex);
-  if (errors->first.empty()) errors->first = message ? message : "unknown Embree error";
-}
+namespace {
 
 M44f to_float(const M44d& m) {
   M44f f;
@@ -222,46 +74,15 @@ M44f to_float(const M44d& m) {
   return f;
 }
 
-// The primitive moved into world space (shifted by the world origin, which `to_world`
-// already includes). A transform that mirrors (negative determinant) would turn
-// counter-clockwise triangles clockwise, so their winding is flipped to keep the authored
-// front face in front, as glTF requires.
-void bake(const Primitive& p, const M44d& to_world, std::vector<V3f>* positions,
-          std::vector<V3f>* normals, std::vector<uint32_t>* indices) {
-  const M44d normal_matrix = to_world.inverse().transposed();
-  positions->reserve(p.positions.size() + 1);
-  for (const V3f& v : p.positions) {
-    V3d w;
-    to_world.multVecMatrix(V3d(v), w);
-    positions->push_back(V3f(w));
-  }
-  normals->reserve(p.normals.size());
-  for (const V3f& n : p.normals) {
-    V3d w;
-    normal_matrix.multDirMatrix(V3d(n), w);
-    normals->push_back(V3f(w.normalized()));
-  }
-  *indices = p.indices;
-  if (to_world.determinant() < 0.0) {
-    for (size_t i = 0; i + 2 < indices->size(); i += 3)
-      std::swap((*indices)[i + 1], (*indices)[i + 2]);
-  }
+void count_triangles_dropped(const MeshPreparationStatistics& prepared,
+                             GeometryStatistics* statistics) {
+  statistics->degenerate_triangles += prepared.degenerate_triangles;
+  statistics->nonfinite_triangles += prepared.nonfinite_triangles;
+  statistics->normals_repaired += prepared.normals_repaired;
 }
 
-// Tangents move with the surface (as directions, unlike normals). A mirroring transform
-// flips the bitangent cross(normal, tangent) relative to the surface, so w flips with it.
-std::vector<Imath::V4f> bake_tangents(const std::vector<Imath::V4f>& tangents,
-                                      const M44d& to_world) {
-  const float handedness = to_world.determinant() < 0.0 ? -1.0f : 1.0f;
-  std::vector<Imath::V4f> out;
-  out.reserve(tangents.size());
-  for (const Imath::V4f& t : tangents) {
-    V3d w;
-    to_world.multDirMatrix(V3d(t.x, t.y, t.z), w);
-    const V3f d(w.normalized());
-    out.emplace_back(d.x, d.y, d.z, t.w * handedness);
-  }
-  return out;
+bool valid_mesh(const SceneDescription& scene, const MeshInstance& node) {
+  return node.mesh >= 0 && node.mesh < static_cast<int>(scene.meshes.size());
 }
 
 }  // namespace
@@ -280,226 +101,25 @@ RTCBuildQuality embree_build_quality(BuildQuality quality) {
 
 EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& options,
                          const std::vector<Material>& materials)
-    : world_origin_(options.world_origin) {
-  EmbreeErrors error;
-  device_ = rtcNewDevice(nullptr);
-  if (!device_) throw std::runtime_error("cannot create the Embree device");
-  rtcSetDeviceErrorFunction(device_, report_embree_error, &error);
-  // Only a scene with a single-sided mesh needs the culling trace's context filter
-  // (renderer/geometry/alpha_filter.h); the flag is set on every scene, instanced ones too, since
-  // Embree reads it from the scene being traversed.
-  for (const MeshInstance& inst : scene.instances) {
-    if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
-    for (const Primitive& p : scene.meshes[inst.mesh].primitives)
-      culling_.any = culling_.any || single_sided(scene, p.material);
+    : EmbreeScene(std::make_shared<EmbreeDevice>(), scene, options, materials) {}
+
+EmbreeScene::EmbreeScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
+                         const GeometryOptions& options, const std::vector<Material>& materials)
+    : device_(std::move(device)), world_origin_(options.world_origin) {
+  const EmbreeDevice::ErrorWatch errors(*device_);
+  try {
+    begin_scenes(scene, options);
+    MeshPlan plan = plan_meshes(scene);
+    prepare_meshes(&plan);
+    add_prototypes(scene, materials, &plan);
+    add_placed_meshes(scene, materials, &plan);
+    add_spheres(scene.spheres, options.spheres);
+    rtcCommitScene(scene_);
+    errors.throw_if_failed();
+  } catch (...) {
+    release();
+    throw;
   }
-  const RTCSceneFlags flags = static_cast<RTCSceneFlags>(
-      (options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
-      (options.compact ? RTC_SCENE_FLAG_COMPACT : RTC_SCENE_FLAG_NONE) |
-      (culling_.any ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_NONE));
-  scene_ = rtcNewScene(device_);
-  rtcSetSceneFlags(scene_, flags);
-  const RTCBuildQuality quality = embree_build_quality(options.build_quality);
-  rtcSetSceneBuildQuality(scene_, quality);
-
-  auto record = [&](unsigned geom_id, GeometryRecord r) {
-    if (records_.size() <= geom_id) records_.resize(geom_id + 1);
-    records_[geom_id] = r;
-  };
-
-  // World to the shifted frame, composed into every transform in double before anything is
-  // rounded to float: v * (M * shift) keeps v's small offsets from a far-away node exactly
-  // where v * M - origin would first round them at the node's magnitude.
-  M44d shift;
-  shift.setTranslation(-world_origin_);
-
-  // How many nodes place each mesh decides baking or instancing.
-  std::vector<int> uses(scene.meshes.size(), 0);
-  for (const MeshInstance& inst : scene.instances)
-    if (inst.mesh >= 0 && inst.mesh < static_cast<int>(scene.meshes.size())) ++uses[inst.mesh];
-  struct PrototypeUse {
-    const Prototype* prototype = nullptr;
-    size_t triangles = 0, degenerate = 0, nonfinite = 0;  // per placement
-  };
-  std::vector<PrototypeUse> prototype_of(scene.meshes.size());
-
-  // Each primitive's TriangleMesh (baked for a mesh placed once, copied for a prototype) is
-  // made in parallel: their per-vertex copy, bake and clean are independent and, serial, cost
-  // about as much as Embree's own (parallel) build. They are attached to Embree afterwards one
-  // at a time in the scene's order, so every geomID, and so every image, is the serial one.
-  struct MeshJob {
-    const Primitive* primitive = nullptr;
-    M44d to_shifted;  // baked only
-    bool baked = false;
-    std::unique_ptr<TriangleMesh> mesh;
-    CleaningCounts counts;
-  };
-  struct Placement {
-    bool placed = false;
-    M44d to_shifted;
-    size_t first_job = 0;  // baked: its primitives' jobs, in order
-  };
-  std::vector<MeshJob> jobs;
-  std::vector<Placement> placements(scene.instances.size());
-  constexpr size_t kNoJob = ~size_t(0);
-  std::vector<size_t> prototype_jobs(scene.meshes.size(), kNoJob);
-  for (size_t i = 0; i < scene.instances.size(); ++i) {
-    const MeshInstance& inst = scene.instances[i];
-    if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
-    const Mesh& mesh = scene.meshes[inst.mesh];
-    // A node that is not finite, or flattens its mesh (determinant 0), places nothing that
-    // can be hit; it is skipped whole rather than handed to Embree.
-    const bool finite_node = is_finite(inst.object_to_world);
-    const double det = finite_node ? inst.object_to_world.determinant() : 0.0;
-    if (!finite_node || !std::isfinite(det) || det == 0.0) {
-      size_t triangles = 0;
-      for (const Primitive& p : mesh.primitives) triangles += p.indices.size() / 3;
-      (finite_node ? statistics_.degenerate_triangles : statistics_.nonfinite_triangles) +=
-          triangles;
-      continue;
-    }
-    Placement& placement = placements[i];
-    placement.placed = true;
-    placement.to_shifted = inst.object_to_world * shift;
-    if (uses[inst.mesh] == 1) {
-      placement.first_job = jobs.size();
-      for (const Primitive& p : mesh.primitives)
-        jobs.push_back(MeshJob{&p, placement.to_shifted, true, nullptr, {}});
-    } else if (prototype_jobs[inst.mesh] == kNoJob) {
-      prototype_jobs[inst.mesh] = jobs.size();
-      for (const Primitive& p : mesh.primitives)
-        jobs.push_back(MeshJob{&p, M44d(), false, nullptr, {}});
-    }
-  }
-  tbb::parallel_for(size_t(0), jobs.size(), [&](size_t j) {
-    MeshJob& job = jobs[j];
-    const Primitive& p = *job.primitive;
-    if (!job.baked) {
-      job.mesh = copy_for_embree(p, &job.counts.degenerate, &job.counts.nonfinite);
-      return;
-    }
-    job.mesh = std::make_unique<TriangleMesh>();
-    TriangleMesh& baked = *job.mesh;
-    bake(p, job.to_shifted, &baked.positions, &baked.normals, &baked.indices);
-    clean_mesh(&baked.positions, &baked.normals, &baked.indices, &job.counts);
-    if (baked.indices.empty()) return;
-    baked.compute_face_normals();
-    baked.positions.push_back(V3f(0.0f));  // Embree's read-ahead padding
-    baked.take_attributes(p, bake_tangents(p.tangents, job.to_shifted));
-    baked.material = p.material;
-  });
-
-  // The prototypes, each mesh's primitives in order; their BVHs are small, so Embree's
-  // parallel build of one keeps few threads busy and several are committed at once.
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
-    if (prototype_jobs[m] == kNoJob) continue;
-    PrototypeUse& use = prototype_of[m];
-    auto proto = std::make_unique<Prototype>();
-    proto->scene = rtcNewScene(device_);
-    rtcSetSceneFlags(proto->scene, flags);
-    rtcSetSceneBuildQuality(proto->scene, quality);
-    const size_t end = prototype_jobs[m] + scene.meshes[m].primitives.size();
-    for (size_t j = prototype_jobs[m]; j < end; ++j) {
-      MeshJob& job = jobs[j];
-      use.degenerate += job.counts.degenerate;
-      use.nonfinite += job.counts.nonfinite;
-      if (job.mesh->indices.empty()) continue;
-      use.triangles += job.mesh->indices.size() / 3;
-      const unsigned id =
-          attach_triangles(proto->scene, *job.mesh, surface_filter(scene, *job.mesh, materials));
-      if (proto->geometries.size() <= id) {
-        proto->geometries.resize(id + 1);
-        proto->single_sided.resize(id + 1, 0);
-      }
-      proto->geometries[id] = std::move(job.mesh);
-      proto->single_sided[id] = single_sided(scene, job.primitive->material);
-    }
-    use.prototype = proto.get();
-    prototypes_.push_back(std::move(proto));
-  }
-  tbb::parallel_for(size_t(0), prototypes_.size(),
-                    [&](size_t i) { rtcCommitScene(prototypes_[i]->scene); });
-
-  for (size_t i = 0; i < scene.instances.size(); ++i) {
-    const Placement& placement = placements[i];
-    if (!placement.placed) continue;
-    const MeshInstance& inst = scene.instances[i];
-    const Mesh& mesh = scene.meshes[inst.mesh];
-    if (uses[inst.mesh] == 1) {
-      for (size_t j = placement.first_job; j < placement.first_job + mesh.primitives.size(); ++j) {
-        MeshJob& job = jobs[j];
-        statistics_.degenerate_triangles += job.counts.degenerate;
-        statistics_.nonfinite_triangles += job.counts.nonfinite;
-        statistics_.normals_repaired += job.counts.normals_repaired;
-        std::unique_ptr<TriangleMesh>& baked = job.mesh;
-        if (baked->indices.empty()) continue;
-        statistics_.triangles += baked->indices.size() / 3;
-        const unsigned id =
-            attach_triangles(scene_, *baked, surface_filter(scene, *baked, materials));
-        record(id, {GeometryRecord::Kind::triangles, baked.get(), 0});
-        if (culling_.top_level.size() <= id) culling_.top_level.resize(id + 1, 0);
-        culling_.top_level[id] = single_sided(scene, job.primitive->material);
-        baked_.push_back(std::move(baked));
-        ++statistics_.meshes_baked;
-      }
-      continue;
-    }
-    const PrototypeUse& use = prototype_of[inst.mesh];
-    const M44d& to_shifted = placement.to_shifted;
-    statistics_.triangles += use.triangles;
-    statistics_.degenerate_triangles += use.degenerate;
-    statistics_.nonfinite_triangles += use.nonfinite;
-    Instance instance;
-    instance.prototype = use.prototype;
-    instance.object_to_world = to_float(to_shifted);
-    instance.normal_to_world = to_float(inst.object_to_world.inverse().transposed());
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(g, instance.prototype->scene);
-    // Imath's row-vector matrix, read in memory order, is the column-major matrix of the
-    // same transform in the column-vector convention that Embree uses.
-    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
-                            &instance.object_to_world[0][0]);
-    rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(scene_, g);
-    rtcReleaseGeometry(g);
-    record(id, {GeometryRecord::Kind::instance, nullptr, instances_.size()});
-    if (culling_.instanced.size() <= id) culling_.instanced.resize(id + 1, nullptr);
-    culling_.instanced[id] = &instance.prototype->single_sided;
-    instances_.push_back(instance);
-    ++statistics_.mesh_instances;
-  }
-
-  spheres_ = scene.spheres;
-  for (Sphere& s : spheres_) s.centre -= world_origin_;
-  statistics_.spheres = spheres_.size();
-  if (!spheres_.empty()) {
-    switch (options.spheres.mode) {
-      case SphereMode::analytic:
-        analytic_spheres_geom_ = attach_analytic_spheres(device_, scene_, spheres_);
-        record(analytic_spheres_geom_, {GeometryRecord::Kind::analytic_spheres, nullptr, 0});
-        break;
-      case SphereMode::embree_points:
-        record(attach_point_spheres(device_, scene_, spheres_),
-               {GeometryRecord::Kind::point_spheres, nullptr, 0});
-        break;
-      case SphereMode::mesh:
-        for (size_t i = 0; i < spheres_.size(); ++i) {
-          const Primitive p = tessellate_sphere(spheres_[i], options.spheres.mesh_level);
-          auto mesh = copy_for_embree(p, &statistics_.degenerate_triangles,
-                                      &statistics_.nonfinite_triangles);
-          if (mesh->indices.empty()) continue;
-          statistics_.triangles += mesh->indices.size() / 3;
-          record(attach_triangles(scene_, *mesh, nullptr),
-                 {GeometryRecord::Kind::sphere_mesh, mesh.get(), i});
-          baked_.push_back(std::move(mesh));
-        }
-        break;
-    }
-  }
-
-  rtcCommitScene(scene_);
-  if (!error.first.empty()) throw std::runtime_error("Embree: " + error.first);
-  rtcSetDeviceErrorFunction(device_, nullptr, nullptr);
   RTCBounds b;
   rtcGetSceneBounds(scene_, &b);
   bounds_ =
@@ -507,11 +127,219 @@ EmbreeScene::EmbreeScene(const SceneDescription& scene, const GeometryOptions& o
 }
 
 EmbreeScene::~EmbreeScene() {
+  release();
+}
+
+void EmbreeScene::release() {
   if (analytic_spheres_geom_ != RTC_INVALID_GEOMETRY_ID)
     release_analytic_spheres(scene_, analytic_spheres_geom_);
+  analytic_spheres_geom_ = RTC_INVALID_GEOMETRY_ID;
   for (auto& p : prototypes_) rtcReleaseScene(p->scene);
+  prototypes_.clear();
   if (scene_) rtcReleaseScene(scene_);
-  if (device_) rtcReleaseDevice(device_);
+  scene_ = nullptr;
+}
+
+void EmbreeScene::begin_scenes(const SceneDescription& scene, const GeometryOptions& options) {
+  // Only a scene with a single-sided mesh needs the culling trace's context filter
+  // (renderer/geometry/alpha_filter.h); the flag is set on every scene, instanced ones too,
+  // since Embree reads it from the scene being traversed.
+  for (const MeshInstance& node : scene.instances) {
+    if (!valid_mesh(scene, node)) continue;
+    for (const Primitive& p : scene.meshes[node.mesh].primitives)
+      culling_.any = culling_.any || single_sided(scene, p.material);
+  }
+  scene_flags_ = static_cast<RTCSceneFlags>(
+      (options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+      (options.compact ? RTC_SCENE_FLAG_COMPACT : RTC_SCENE_FLAG_NONE) |
+      (culling_.any ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_NONE));
+  build_quality_ = embree_build_quality(options.build_quality);
+  scene_ = new_scene();
+}
+
+RTCScene EmbreeScene::new_scene() const {
+  RTCScene scene = rtcNewScene(device_->get());
+  rtcSetSceneFlags(scene, scene_flags_);
+  rtcSetSceneBuildQuality(scene, build_quality_);
+  return scene;
+}
+
+void EmbreeScene::record(unsigned geom_id, const GeometryRecord& record) {
+  if (records_.size() <= geom_id) records_.resize(geom_id + 1);
+  records_[geom_id] = record;
+}
+
+EmbreeScene::MeshPlan EmbreeScene::plan_meshes(const SceneDescription& scene) {
+  MeshPlan plan;
+  plan.uses.assign(scene.meshes.size(), 0);
+  for (const MeshInstance& node : scene.instances)
+    if (valid_mesh(scene, node)) ++plan.uses[node.mesh];
+  plan.placements.resize(scene.instances.size());
+  plan.prototype_jobs.assign(scene.meshes.size(), MeshPlan::kNoJob);
+  plan.prototypes.assign(scene.meshes.size(), nullptr);
+  // World to the shifted frame, composed into every transform in double before anything is
+  // rounded to float: v * (M * shift) keeps v's small offsets from a far-away node exactly
+  // where v * M - origin would first round them at the node's magnitude.
+  M44d shift;
+  shift.setTranslation(-world_origin_);
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const MeshInstance& node = scene.instances[i];
+    if (!valid_mesh(scene, node)) continue;
+    const Mesh& mesh = scene.meshes[node.mesh];
+    // A node that is not finite, or flattens its mesh (determinant 0), places nothing that
+    // can be hit; it is skipped whole rather than handed to Embree.
+    const bool finite_node = is_finite(node.object_to_world);
+    const double det = finite_node ? node.object_to_world.determinant() : 0.0;
+    if (!finite_node || !std::isfinite(det) || det == 0.0) {
+      size_t triangles = 0;
+      for (const Primitive& p : mesh.primitives) triangles += p.indices.size() / 3;
+      (finite_node ? statistics_.degenerate_triangles : statistics_.nonfinite_triangles) +=
+          triangles;
+      continue;
+    }
+    MeshPlan::Placement& placement = plan.placements[i];
+    placement.placed = true;
+    placement.to_shifted = node.object_to_world * shift;
+    if (plan.baked(node.mesh)) {
+      placement.first_job = plan.jobs.size();
+      for (const Primitive& p : mesh.primitives)
+        plan.jobs.push_back(MeshPlan::Job{&p, placement.to_shifted, true, nullptr});
+    } else if (plan.prototype_jobs[node.mesh] == MeshPlan::kNoJob) {
+      plan.prototype_jobs[node.mesh] = plan.jobs.size();
+      for (const Primitive& p : mesh.primitives)
+        plan.jobs.push_back(MeshPlan::Job{&p, M44d(), false, nullptr});
+    }
+  }
+  return plan;
+}
+
+// Their per-vertex copy, bake and clean are independent and, serial, cost about as much as
+// Embree's own (parallel) build. The meshes are attached to Embree afterwards one at a time in
+// the scene's order, so every geomID, and so every image, is the serial one.
+void EmbreeScene::prepare_meshes(MeshPlan* plan) {
+  tbb::parallel_for(size_t(0), plan->jobs.size(), [plan](size_t j) {
+    MeshPlan::Job& job = plan->jobs[j];
+    job.mesh = std::make_unique<PreparedMesh>(
+        job.baked ? prepare_mesh(*job.primitive, job.to_shifted) : prepare_mesh(*job.primitive));
+  });
+}
+
+// The prototypes, each mesh's primitives in order; their BVHs are small, so Embree's parallel
+// build of one keeps few threads busy and several are committed at once.
+void EmbreeScene::add_prototypes(const SceneDescription& scene,
+                                 const std::vector<Material>& materials, MeshPlan* plan) {
+  const size_t first = prototypes_.size();
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (plan->prototype_jobs[m] == MeshPlan::kNoJob) continue;
+    auto proto = std::make_unique<Prototype>();
+    proto->scene = new_scene();
+    const size_t end = plan->prototype_jobs[m] + scene.meshes[m].primitives.size();
+    for (size_t j = plan->prototype_jobs[m]; j < end; ++j) {
+      std::unique_ptr<PreparedMesh>& mesh = plan->jobs[j].mesh;
+      // Dropped triangles count at every placement, repaired normals once: they are shared.
+      proto->degenerate += mesh->statistics.degenerate_triangles;
+      proto->nonfinite += mesh->statistics.nonfinite_triangles;
+      statistics_.normals_repaired += mesh->statistics.normals_repaired;
+      if (mesh->indices.empty()) continue;
+      proto->triangles += mesh->triangle_count();
+      const unsigned id =
+          attach_triangles(proto->scene, *mesh, surface_filter(scene, *mesh, materials));
+      if (proto->geometries.size() <= id) {
+        proto->geometries.resize(id + 1);
+        proto->single_sided.resize(id + 1, 0);
+      }
+      proto->single_sided[id] = single_sided(scene, mesh->material);
+      proto->geometries[id] = std::move(mesh);
+    }
+    plan->prototypes[m] = proto.get();
+    prototypes_.push_back(std::move(proto));
+  }
+  tbb::parallel_for(first, prototypes_.size(),
+                    [&](size_t i) { rtcCommitScene(prototypes_[i]->scene); });
+}
+
+// In the nodes' order: each node's baked primitives, or its instance.
+void EmbreeScene::add_placed_meshes(const SceneDescription& scene,
+                                    const std::vector<Material>& materials, MeshPlan* plan) {
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const MeshPlan::Placement& placement = plan->placements[i];
+    if (!placement.placed) continue;
+    const MeshInstance& node = scene.instances[i];
+    if (!plan->baked(node.mesh)) {
+      add_instance(*plan->prototypes[static_cast<size_t>(node.mesh)], node, placement.to_shifted);
+      continue;
+    }
+    const size_t end = placement.first_job + scene.meshes[node.mesh].primitives.size();
+    for (size_t j = placement.first_job; j < end; ++j)
+      add_baked_mesh(scene, materials, std::move(plan->jobs[j].mesh));
+  }
+}
+
+void EmbreeScene::add_baked_mesh(const SceneDescription& scene,
+                                 const std::vector<Material>& materials,
+                                 std::unique_ptr<PreparedMesh> mesh) {
+  count_triangles_dropped(mesh->statistics, &statistics_);
+  if (mesh->indices.empty()) return;
+  statistics_.triangles += mesh->triangle_count();
+  const unsigned id = attach_triangles(scene_, *mesh, surface_filter(scene, *mesh, materials));
+  record(id, {GeometryRecord::Kind::triangles, mesh.get(), 0});
+  if (culling_.top_level.size() <= id) culling_.top_level.resize(id + 1, 0);
+  culling_.top_level[id] = single_sided(scene, mesh->material);
+  baked_.push_back(std::move(mesh));
+  ++statistics_.meshes_baked;
+}
+
+void EmbreeScene::add_instance(const Prototype& prototype, const MeshInstance& node,
+                               const M44d& to_shifted) {
+  statistics_.triangles += prototype.triangles;
+  statistics_.degenerate_triangles += prototype.degenerate;
+  statistics_.nonfinite_triangles += prototype.nonfinite;
+  Instance instance;
+  instance.prototype = &prototype;
+  instance.object_to_world = to_float(to_shifted);
+  instance.normal_to_world = to_float(node.object_to_world.inverse().transposed());
+  RTCGeometry g = rtcNewGeometry(device_->get(), RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(g, prototype.scene);
+  // Imath's row-vector matrix, read in memory order, is the column-major matrix of the
+  // same transform in the column-vector convention that Embree uses.
+  rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &instance.object_to_world[0][0]);
+  rtcCommitGeometry(g);
+  const unsigned id = rtcAttachGeometry(scene_, g);
+  rtcReleaseGeometry(g);
+  record(id, {GeometryRecord::Kind::instance, nullptr, instances_.size()});
+  if (culling_.instanced.size() <= id) culling_.instanced.resize(id + 1, nullptr);
+  culling_.instanced[id] = &prototype.single_sided;
+  instances_.push_back(instance);
+  ++statistics_.mesh_instances;
+}
+
+void EmbreeScene::add_spheres(const std::vector<Sphere>& spheres, const SphereOptions& options) {
+  spheres_ = spheres;
+  for (Sphere& s : spheres_) s.centre -= world_origin_;
+  statistics_.spheres = spheres_.size();
+  if (spheres_.empty()) return;
+  switch (options.mode) {
+    case SphereMode::analytic:
+      analytic_spheres_geom_ = attach_analytic_spheres(device_->get(), scene_, spheres_);
+      record(analytic_spheres_geom_, {GeometryRecord::Kind::analytic_spheres, nullptr, 0});
+      break;
+    case SphereMode::embree_points:
+      record(attach_point_spheres(device_->get(), scene_, spheres_),
+             {GeometryRecord::Kind::point_spheres, nullptr, 0});
+      break;
+    case SphereMode::mesh:
+      for (size_t i = 0; i < spheres_.size(); ++i) {
+        auto mesh = std::make_unique<PreparedMesh>(
+            prepare_mesh(tessellate_sphere(spheres_[i], options.mesh_level)));
+        count_triangles_dropped(mesh->statistics, &statistics_);
+        if (mesh->indices.empty()) continue;
+        statistics_.triangles += mesh->triangle_count();
+        record(attach_triangles(scene_, *mesh, nullptr),
+               {GeometryRecord::Kind::sphere_mesh, mesh.get(), i});
+        baked_.push_back(std::move(mesh));
+      }
+      break;
+  }
 }
 
 bool EmbreeScene::single_sided(const SceneDescription& scene, int material) {
@@ -520,7 +348,7 @@ bool EmbreeScene::single_sided(const SceneDescription& scene, int material) {
 }
 
 const SurfaceFilter* EmbreeScene::surface_filter(const SceneDescription& scene,
-                                                 const TriangleMesh& mesh,
+                                                 const PreparedMesh& mesh,
                                                  const std::vector<Material>& materials) {
   const auto index = static_cast<size_t>(mesh.material);
   const bool known = mesh.material >= 0 && index < scene.materials.size();
@@ -533,9 +361,9 @@ const SurfaceFilter* EmbreeScene::surface_filter(const SceneDescription& scene,
   return filters_.back().get();
 }
 
-unsigned EmbreeScene::attach_triangles(RTCScene scene, const TriangleMesh& mesh,
+unsigned EmbreeScene::attach_triangles(RTCScene scene, const PreparedMesh& mesh,
                                        const SurfaceFilter* filter) {
-  RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  RTCGeometry g = rtcNewGeometry(device_->get(), RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(),
                              0, sizeof(V3f), mesh.vertex_count());
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
@@ -547,7 +375,7 @@ unsigned EmbreeScene::attach_triangles(RTCScene scene, const TriangleMesh& mesh,
   return id;
 }
 
-void EmbreeScene::fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& rh,
+void EmbreeScene::fill_triangle_hit(const PreparedMesh& mesh, const RTCRayHit& rh,
                                     SurfaceHit* hit) const {
   const uint32_t* tri = &mesh.indices[static_cast<size_t>(rh.hit.primID) * 3];
   const float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
@@ -668,54 +496,71 @@ void EmbreeScene::intersect_packet(const Ray* rays, int count, SurfaceHit* hits,
   }
 }
 
+// Inline, as resolve_sphere_hit below: resolve_hit is their only caller, and a member function,
+// which has external linkage, is otherwise kept out of line (0.25 % more instructions in a whitted
+// render of scenes/spheres.gltf).
+inline void EmbreeScene::resolve_instance_hit(const Instance& instance, const RTCRayHit& rh,
+                                              SurfaceHit* hit) const {
+  fill_triangle_hit(*instance.prototype->geometries[rh.hit.geomID], rh, hit);
+  // Everything above is in object space; normals move with the inverse transpose.
+  V3f p;
+  instance.object_to_world.multVecMatrix(hit->position, p);
+  hit->object_to_world = &instance.object_to_world;
+  hit->position = p;
+  instance.object_to_world.multDirMatrix(hit->terminator_offset, p);
+  hit->terminator_offset = p;
+  V3f n;
+  instance.normal_to_world.multDirMatrix(hit->geometric_normal, n);
+  hit->geometric_normal = normalize(n);
+  instance.normal_to_world.multDirMatrix(hit->shading_normal, n);
+  hit->shading_normal = n;
+}
+
+inline void EmbreeScene::resolve_sphere_hit(bool embree_points, const RTCRayHit& rh,
+                                            SurfaceHit* hit) const {
+  const Sphere& s = spheres_[rh.hit.primID];
+  // The intersector's Ng is hit point - centre, computed more precisely than o + t d - centre
+  // could be here; the hit point is projected back onto the sphere along it, in double, so it
+  // is on the surface to the rounding of its coordinates instead of an error growing with t
+  // or with the radius.
+  const V3d radial = V3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
+  hit->position = V3f(s.centre + s.radius * radial);
+  hit->geometric_normal = V3f(radial);
+  hit->shading_normal = hit->geometric_normal;
+  // Embree's own sphere test works in float on coordinates of size |centre| + r: near the
+  // surface it cannot tell a ray's start from the surface closer than a few ulps of that
+  // size, so a ray leaving by less could find the sphere again (a wall made of an r = 1e5
+  // sphere self-shadows: tests/stress/04). Measured on that wall: 2^-26 of it is too little
+  // (every lit pixel self-shadowed), 2^-25 enough; 2^-22 keeps a margin of 8. The robust
+  // analytic test needs nothing beyond the hit point's rounding.
+  hit->surface_error =
+      embree_points
+          ? 0x1.0p-22f * static_cast<float>(std::fabs(s.centre.x) + std::fabs(s.centre.y) +
+                                            std::fabs(s.centre.z) + s.radius)
+          : 0.0f;
+  hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
+  hit->material = s.material;
+  hit->attributes = nullptr;
+}
+
 void EmbreeScene::resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const {
   hit->t = rh.ray.tfar;
   hit->object_to_world = nullptr;
-  if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
-    const Instance& inst = instances_[records_[rh.hit.instID[0]].index];
-    fill_triangle_hit(*inst.prototype->geometries[rh.hit.geomID], rh, hit);
-    // Everything above is in object space; normals move with the inverse transpose.
-    V3f p;
-    inst.object_to_world.multVecMatrix(hit->position, p);
-    hit->object_to_world = &inst.object_to_world;
-    hit->position = p;
-    inst.object_to_world.multDirMatrix(hit->terminator_offset, p);
-    hit->terminator_offset = p;
-    V3f n;
-    inst.normal_to_world.multDirMatrix(hit->geometric_normal, n);
-    hit->geometric_normal = normalize(n);
-    inst.normal_to_world.multDirMatrix(hit->shading_normal, n);
-    hit->shading_normal = n;
-  } else {
-    const GeometryRecord& r = records_[rh.hit.geomID];
-    if (r.kind == GeometryRecord::Kind::analytic_spheres ||
-        r.kind == GeometryRecord::Kind::point_spheres) {
-      const Sphere& s = spheres_[rh.hit.primID];
-      // The intersector's Ng is hit point - centre, computed more precisely than
-      // o + t d - centre could be here; the hit point is projected back onto the sphere
-      // along it, in double, so it is on the surface to the rounding of its coordinates
-      // instead of an error growing with t or with the radius.
-      const V3d radial = V3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
-      hit->position = V3f(s.centre + s.radius * radial);
-      hit->geometric_normal = V3f(radial);
-      hit->shading_normal = hit->geometric_normal;
-      // Embree's own sphere test works in float on coordinates of size |centre| + r: near
-      // the surface it cannot tell a ray's start from the surface closer than a few ulps of
-      // that size, so a ray leaving by less could find the sphere again (a wall made of an
-      // r = 1e5 sphere self-shadows: tests/stress/04). Measured on that wall: 2^-26 of it is
-      // too little (every lit pixel self-shadowed), 2^-25 enough; 2^-22 keeps a margin of 8.
-      // The robust analytic test needs nothing beyond the hit point's rounding.
-      hit->surface_error =
-          r.kind == GeometryRecord::Kind::point_spheres
-              ? 0x1.0p-22f * static_cast<float>(std::fabs(s.centre.x) + std::fabs(s.centre.y) +
-                                                std::fabs(s.centre.z) + s.radius)
-              : 0.0f;
-      hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
-      hit->material = s.material;
-      hit->attributes = nullptr;
-    } else {
+  // A hit inside an instance names the instance's top-level geometry in instID[0].
+  const bool instanced = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID;
+  const GeometryRecord& r = records_[instanced ? rh.hit.instID[0] : rh.hit.geomID];
+  switch (r.kind) {
+    case GeometryRecord::Kind::triangles:
+    case GeometryRecord::Kind::sphere_mesh:
       fill_triangle_hit(*r.mesh, rh, hit);
-    }
+      break;
+    case GeometryRecord::Kind::instance:
+      resolve_instance_hit(instances_[r.index], rh, hit);
+      break;
+    case GeometryRecord::Kind::analytic_spheres:
+    case GeometryRecord::Kind::point_spheres:
+      resolve_sphere_hit(r.kind == GeometryRecord::Kind::point_spheres, rh, hit);
+      break;
   }
   // Interpolated normals can be zero, non-finite, or point through the surface; they are
   // kept on the geometric normal's side and fall back to it when unusable.

@@ -5,8 +5,9 @@
 //
 // The renderer does not trust its input (docs/stress-shading.md):
 //   - triangles that cannot be hit meaningfully (an index out of range, a repeated index,
-//     zero area, a non-finite vertex) are dropped at build time and counted;
-//   - vertex normals that are zero or not finite are rebuilt from the faces around them;
+//     zero area, a non-finite vertex) are dropped at build time and counted, and vertex
+//     normals that are zero or not finite are rebuilt from the faces around them
+//     (renderer/geometry/mesh_preparation.h);
 //   - rays with a non-finite origin, direction or range never reach Embree.
 //
 // World origin: Embree works in float, whose spacing at 1e6 m is 6 cm. Everything is moved
@@ -14,6 +15,11 @@
 // origin at the camera every ray, hit and light lives near 0 whatever the scene's absolute
 // coordinates. Hit positions and bounds are in this shifted frame; the camera and the lights
 // must be shifted by the same point (Camera's world_origin argument, RenderScene).
+//
+// Geometry kinds: each top-level Embree geometry has a GeometryRecord whose kind says how its
+// hits are read. A new kind takes an entry in GeometryRecord::Kind, one add_* function that
+// attaches it and records it (called from the constructor), and one resolve_*_hit function
+// that resolve_hit's switch calls for it.
 #pragma once
 
 #include <memory>
@@ -26,10 +32,11 @@
 
 #include "renderer/enum_names.h"
 #include "renderer/geometry/alpha_filter.h"
+#include "renderer/geometry/embree_device.h"
 #include "renderer/geometry/ray.h"
-#include "renderer/scene_description.h"
 #include "renderer/geometry/sphere_geometry.h"
 #include "renderer/geometry/surface_hit.h"
+#include "renderer/scene_description.h"
 
 namespace prism {
 
@@ -59,6 +66,8 @@ struct GeometryOptions {
   Imath::V3d world_origin{0.0, 0.0, 0.0};
 };
 
+struct PreparedMesh;
+
 struct GeometryStatistics {
   size_t meshes_baked = 0;
   size_t mesh_instances = 0;
@@ -76,8 +85,11 @@ class EmbreeScene {
   // Throws std::runtime_error if Embree fails (with Embree's message). `materials` are the
   // scene's materials resolved (RenderScene's, one per SceneDescription::materials entry),
   // whose base colour alpha the filters of MASK and BLEND materials read
-  // (renderer/geometry/alpha_filter.h); they must outlive this scene. Without them only the alpha
-  // factor counts.
+  // (renderer/geometry/alpha_filter.h); they must outlive this scene. Without them only the
+  // alpha factor counts. The scene keeps `device` (not null) alive while it lives.
+  EmbreeScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
+              const GeometryOptions& options, const std::vector<Material>& materials = {});
+  // On a device of its own.
   EmbreeScene(const SceneDescription& scene, const GeometryOptions& options,
               const std::vector<Material>& materials = {});
   ~EmbreeScene();
@@ -106,33 +118,56 @@ class EmbreeScene {
   Imath::Box3f bounds() const { return bounds_; }
   const Imath::V3d& world_origin() const { return world_origin_; }
   const GeometryStatistics& statistics() const { return statistics_; }
+  const std::shared_ptr<EmbreeDevice>& device() const { return device_; }
 
  private:
-  struct TriangleMesh;
   struct Prototype;
   struct Instance;
   struct GeometryRecord;
+  struct MeshPlan;
 
-  std::unique_ptr<TriangleMesh> copy_for_embree(const Primitive& p, size_t* dropped_degenerate,
-                                                size_t* dropped_nonfinite);
+  // The constructor's steps, in its order.
+  void begin_scenes(const SceneDescription& scene, const GeometryOptions& options);
+  MeshPlan plan_meshes(const SceneDescription& scene);
+  static void prepare_meshes(MeshPlan* plan);  // in parallel
+  void add_prototypes(const SceneDescription& scene, const std::vector<Material>& materials,
+                      MeshPlan* plan);
+  void add_placed_meshes(const SceneDescription& scene, const std::vector<Material>& materials,
+                         MeshPlan* plan);
+  // One per geometry kind; each attaches to the top-level scene and records what it added.
+  void add_baked_mesh(const SceneDescription& scene, const std::vector<Material>& materials,
+                      std::unique_ptr<PreparedMesh> mesh);
+  void add_instance(const Prototype& prototype, const MeshInstance& node, const M44d& to_shifted);
+  void add_spheres(const std::vector<Sphere>& spheres, const SphereOptions& options);
+
+  RTCScene new_scene() const;  // with the flags and build quality every BVH here shares
+  void record(unsigned geom_id, const GeometryRecord& record);
   // `filter`: the mesh's alpha and culling rule, or null for none (spheres).
-  unsigned attach_triangles(RTCScene scene, const TriangleMesh& mesh, const SurfaceFilter* filter);
+  unsigned attach_triangles(RTCScene scene, const PreparedMesh& mesh, const SurfaceFilter* filter);
   // The filter the mesh's material needs, kept in filters_; null when it needs none.
-  const SurfaceFilter* surface_filter(const SceneDescription& scene, const TriangleMesh& mesh,
+  const SurfaceFilter* surface_filter(const SceneDescription& scene, const PreparedMesh& mesh,
                                       const std::vector<Material>& materials);
   static bool single_sided(const SceneDescription& scene, int material);
-  void fill_triangle_hit(const TriangleMesh& mesh, const RTCRayHit& rh, SurfaceHit* hit) const;
+  void release();
+
   // Whether `rh`, found for `ray` without culling, is a back face a camera ray must not see.
   bool culled_back_face(const Ray& ray, const RTCRayHit& rh) const;
   // Rare: the nearest surface was such a back face; traces `ray` again with the culling
   // filter on (renderer/geometry/alpha_filter.h). False when it then hits nothing.
   bool trace_culling(const Ray& ray, RTCRayHit* rh) const;
-  // Fills `hit` from Embree's nearest hit `rh` of `ray`.
+  // Fills `hit` from Embree's nearest hit `rh` of `ray`: the kind's resolve function, then
+  // what every kind shares.
   void resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const;
+  // One per geometry kind (baked triangles and sphere meshes: fill_triangle_hit).
+  void fill_triangle_hit(const PreparedMesh& mesh, const RTCRayHit& rh, SurfaceHit* hit) const;
+  void resolve_instance_hit(const Instance& instance, const RTCRayHit& rh, SurfaceHit* hit) const;
+  void resolve_sphere_hit(bool embree_points, const RTCRayHit& rh, SurfaceHit* hit) const;
 
-  RTCDevice device_ = nullptr;
+  std::shared_ptr<EmbreeDevice> device_;
   RTCScene scene_ = nullptr;
-  std::vector<std::unique_ptr<TriangleMesh>> baked_;
+  RTCSceneFlags scene_flags_ = RTC_SCENE_FLAG_NONE;
+  RTCBuildQuality build_quality_ = RTC_BUILD_QUALITY_MEDIUM;
+  std::vector<std::unique_ptr<PreparedMesh>> baked_;
   std::vector<std::unique_ptr<Prototype>> prototypes_;
   std::vector<Instance> instances_;
   std::vector<GeometryRecord> records_;                  // by top-level geomID

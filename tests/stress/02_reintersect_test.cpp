@@ -218,7 +218,7 @@ TEST(StressReintersect, TrianglesRobustWithTheRenderersNormal) {
   EXPECT_GT(t.hit, t.surfaces / 2);
   // SurfaceHit::geometric_normal is Embree's float Ng, the cross product of two float edges:
   // for a sliver it cancels to a wrong direction or to zero. Needs the exact normal below
-  // computed in renderer/geometry/embree_scene.cpp (docs/stress-geometry.md, case 2).
+  // computed in renderer/geometry/mesh_preparation.cpp (docs/stress-geometry.md, case 2).
   EXPECT_EQ(t.rehits, 0) << t.first_failure;
 }
 

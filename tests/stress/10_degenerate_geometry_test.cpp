@@ -1,8 +1,8 @@
 // Stress case 10: degenerate geometry. Meshes with collinear and zero-area triangles,
 // repeated and out-of-range indices, NaN and infinite vertices, and missing, zero-length or
 // NaN normals must render exactly as the cleaned mesh does, with no non-finite pixel: the
-// renderer cleans what it is given (renderer/geometry/embree_scene.cpp, clean_mesh) rather than
-// trusting it. (A glTF *file* with non-finite positions is still refused by the loader,
+// renderer cleans what it is given (renderer/geometry/mesh_preparation.h, prepare_mesh) rather
+// than trusting it. (A glTF *file* with non-finite positions is still refused by the loader,
 // tests/gltf_loader_test.cpp; this is the renderer's own guard for scenes built in code.)
 #include <gtest/gtest.h>
 

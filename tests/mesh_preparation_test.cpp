@@ -1,0 +1,147 @@
+// Mesh preparation on its own (renderer/geometry/mesh_preparation.h): what is dropped, what
+// is repaired, and where baking puts the vertices, without building a BVH.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <utility>
+
+#include "renderer/geometry/mesh_preparation.h"
+
+namespace prism {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// A unit square in the XY plane, counter-clockwise seen from +Z, as two triangles.
+Primitive square() {
+  Primitive p;
+  p.positions = {V3f(0, 0, 0), V3f(1, 0, 0), V3f(1, 1, 0), V3f(0, 1, 0)};
+  p.indices = {0, 1, 2, 0, 2, 3};
+  p.material = 7;
+  return p;
+}
+
+TEST(MeshPreparation, DropsDegenerateAndNonFiniteTrianglesKeepingTheOrder) {
+  Primitive p = square();
+  p.positions.push_back(V3f(2, 0, 0));     // 4: collinear with 0 and 1
+  p.positions.push_back(V3f(kNaN, 0, 0));  // 5: used only by a dropped triangle
+  p.indices = {0, 0, 1,                    // repeated index
+               0, 1, 2,                    // kept
+               0, 1, 99,                   // out of range
+               0, 1, 4,                    // zero area
+               0, 5, 2,                    // non-finite vertex
+               0, 2, 3,                    // kept
+               1, 2};                      // a trailing partial triangle
+  const PreparedMesh mesh = prepare_mesh(p);
+  EXPECT_EQ(mesh.statistics.degenerate_triangles, 4u);
+  EXPECT_EQ(mesh.statistics.nonfinite_triangles, 1u);
+  EXPECT_EQ(mesh.statistics.normals_repaired, 0u);
+  EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+  EXPECT_EQ(mesh.triangle_count(), 2u);
+  // Every vertex stays (indices keep their meaning), the unused NaN one zeroed, plus the
+  // padding Embree reads past the last.
+  EXPECT_EQ(mesh.vertex_count(), 6u);
+  ASSERT_EQ(mesh.positions.size(), 7u);
+  EXPECT_EQ(mesh.positions[4], V3f(2, 0, 0));
+  EXPECT_EQ(mesh.positions[5], V3f(0, 0, 0));
+  ASSERT_EQ(mesh.face_normals.size(), 2u);
+  EXPECT_EQ(mesh.face_normals[0], V3f(0, 0, 1));
+  EXPECT_EQ(mesh.face_normals[1], V3f(0, 0, 1));
+  EXPECT_EQ(mesh.material, 7);
+}
+
+TEST(MeshPreparation, NothingLeftWhenEveryTriangleIsDropped) {
+  Primitive p = square();
+  p.indices = {0, 1, 1, 2, 2, 3};
+  const PreparedMesh mesh = prepare_mesh(p);
+  EXPECT_TRUE(mesh.indices.empty());
+  EXPECT_EQ(mesh.statistics.degenerate_triangles, 2u);
+}
+
+TEST(MeshPreparation, RebuildsBrokenNormalsOfUsedVerticesFromTheFaces) {
+  Primitive p = square();
+  p.positions.push_back(V3f(5, 5, 5));  // 4: no triangle uses it
+  p.normals = {V3f(0, 0, 0), V3f(kNaN, 0, 0), V3f(0, 0, 5), V3f(0, 3, 4), V3f(0, 0, 0)};
+  const PreparedMesh mesh = prepare_mesh(p);
+  EXPECT_EQ(mesh.statistics.normals_repaired, 2u);  // not the unused vertex's
+  ASSERT_EQ(mesh.normals.size(), 5u);
+  EXPECT_EQ(mesh.normals[0], V3f(0, 0, 1));  // the mean of the two faces around it
+  EXPECT_EQ(mesh.normals[1], V3f(0, 0, 1));
+  EXPECT_EQ(mesh.normals[2], V3f(0, 0, 1));        // normalised
+  EXPECT_EQ(mesh.normals[3], V3f(0, 0.6f, 0.8f));  // normalised, not repaired
+  EXPECT_EQ(mesh.normals[4], V3f(0, 0, 0));        // left zero
+}
+
+TEST(MeshPreparation, NormalsThatAreNotOnePerVertexAreDropped) {
+  Primitive p = square();
+  p.normals = {V3f(0, 0, 1), V3f(0, 0, 1)};
+  const PreparedMesh mesh = prepare_mesh(p);
+  EXPECT_TRUE(mesh.normals.empty());
+  EXPECT_EQ(mesh.statistics.normals_repaired, 0u);
+}
+
+TEST(MeshPreparation, KeepsOnlyPerVertexAttributesPointingAtItsOwnPositions) {
+  Primitive p = square();
+  p.uv0 = {V2f(0, 0), V2f(1, 0), V2f(1, 1), V2f(0, 1)};
+  p.uv1 = {V2f(0, 0)};  // not one per vertex
+  PreparedMesh prepared = prepare_mesh(p);
+  const PreparedMesh mesh = std::move(prepared);
+  EXPECT_TRUE(mesh.has_attributes);
+  EXPECT_EQ(mesh.attributes.texcoords[0], p.uv0);
+  EXPECT_TRUE(mesh.attributes.texcoords[1].empty());
+  EXPECT_EQ(mesh.attributes.positions, mesh.positions.data());
+
+  const PreparedMesh bare = prepare_mesh(square());
+  EXPECT_FALSE(bare.has_attributes);
+}
+
+TEST(MeshPreparation, BakesPositionsNormalsAndTangentsIntoTheWorld) {
+  Primitive p = square();
+  p.normals.assign(4, V3f(0, 0, 1));
+  p.tangents.assign(4, Imath::V4f(1, 0, 0, 1));
+  M44d to_world;
+  to_world.setScale(V3d(2, 2, 4));
+  to_world[3][0] = 10;
+  to_world[3][2] = -1;
+  const PreparedMesh mesh = prepare_mesh(p, to_world);
+  ASSERT_EQ(mesh.vertex_count(), 4u);
+  EXPECT_EQ(mesh.positions[0], V3f(10, 0, -1));
+  EXPECT_EQ(mesh.positions[2], V3f(12, 2, -1));
+  EXPECT_EQ(mesh.indices, p.indices);
+  EXPECT_EQ(mesh.normals[1], V3f(0, 0, 1));
+  EXPECT_EQ(mesh.attributes.tangents[3], Imath::V4f(1, 0, 0, 1));
+  EXPECT_EQ(mesh.face_normals[0], V3f(0, 0, 1));
+}
+
+// A mirroring transform keeps the authored front face in front: the winding flips with the
+// vertices, and so does the bitangent's sign.
+TEST(MeshPreparation, MirroringFlipsTheWindingAndTheBitangentSign) {
+  Primitive p = square();
+  p.normals.assign(4, V3f(0, 0, 1));
+  p.tangents.assign(4, Imath::V4f(1, 0, 0, 1));
+  M44d mirror;
+  mirror.setScale(V3d(-1, 1, 1));
+  const PreparedMesh mesh = prepare_mesh(p, mirror);
+  EXPECT_EQ(mesh.positions[1], V3f(-1, 0, 0));
+  EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 2, 1, 0, 3, 2}));
+  EXPECT_EQ(mesh.face_normals[0], V3f(0, 0, 1));
+  EXPECT_EQ(mesh.face_normals[1], V3f(0, 0, 1));
+  EXPECT_EQ(mesh.normals[0], V3f(0, 0, 1));
+  EXPECT_EQ(mesh.attributes.tangents[0], Imath::V4f(-1, 0, 0, -1));
+}
+
+// A node that places a vertex at infinity loses the triangles that use it, as a bad vertex
+// does.
+TEST(MeshPreparation, CountsTrianglesABakeMakesNonFinite) {
+  Primitive p = square();
+  p.positions[3] = V3f(0, 3e38f, 0);
+  M44d to_world;
+  to_world.setScale(V3d(10, 10, 10));
+  const PreparedMesh mesh = prepare_mesh(p, to_world);
+  EXPECT_EQ(mesh.statistics.nonfinite_triangles, 1u);
+  EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(mesh.positions[3], V3f(0, 0, 0));
+}
+
+}  // namespace
+}  // namespace prism
