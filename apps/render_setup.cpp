@@ -78,9 +78,15 @@ void add_scene_select_option(CLI::App* cmd, std::string* scene) {
                   "glTF scene to load, by name or index (default: the file's `scene`, else 0)");
 }
 
+// --memory-limit, shared by every command that loads a scene (all of them add
+// --allow-external-paths and load through load_selected_scene).
+static double g_memory_limit_gib = double(LoadOptions().memory_limit) / double(1u << 30);
+
 SceneDescription load_selected_scene(const std::string& path, const LoadOptions& options) {
+  LoadOptions limited = options;
+  limited.memory_limit = static_cast<std::size_t>(g_memory_limit_gib * double(1u << 30));
   try {
-    return load_gltf(path, options);
+    return load_gltf(path, limited);
   } catch (const SceneSelectionError& e) {
     throw UsageError(std::string("--scene ") + e.what());
   }
@@ -90,6 +96,10 @@ void add_allow_external_paths_flag(CLI::App* cmd, bool* allow) {
   // Untrusted files must not read anything outside their own folder (docs/gltf.md).
   cmd->add_flag("--allow-external-paths", *allow,
                 "Let the scene's buffers and images come from outside its folder");
+  cmd->add_option("--memory-limit", g_memory_limit_gib,
+                  "GiB the scene's loading may allocate (geometry, texels, buffers)")
+      ->check(CLI::Range(1.0 / 1024, 1024.0))
+      ->capture_default_str();
 }
 
 GeometryOptions SceneSetup::geometry_options(const SphereOptions& spheres, bool robust,
