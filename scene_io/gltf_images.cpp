@@ -125,6 +125,17 @@ long jpeg_scans(const unsigned char* bytes, std::size_t size) {
   return scans;
 }
 
+// The bytes of the image's pixels as the format stores them before compression: for PNG from
+// its IHDR (bit depth x samples of the colour type, rows rounded up to bytes), for JPEG
+// 8 bits per channel.
+std::size_t raw_bytes(Format format, const unsigned char* bytes, std::size_t size,
+                      std::size_t width, std::size_t height, int channels) {
+  if (format != Format::png || size < 26) return width * height * std::size_t(channels);
+  const unsigned depth = bytes[24];
+  const unsigned samples = bytes[25] == 2 ? 3 : bytes[25] == 4 ? 2 : bytes[25] == 6 ? 4 : 1;
+  return height * ((width * depth * samples + 7) / 8);
+}
+
 // The format's own reader, by name: OpenImageIO's ImageInput::open would fall back to every
 // other reader it has when this one fails.
 std::unique_ptr<OIIO::ImageInput> open(Format format, OIIO::Filesystem::IOMemReader* proxy) {
@@ -199,6 +210,18 @@ bool check_image_header(tinygltf::Image* image, const int index, std::string* er
   // Texel storage is width x height x channels: a volume would be read past it.
   if (spec.depth != 1) return refuse("a volume image (depth " + std::to_string(spec.depth) + ")");
   if (spec.nchannels < 1) return refuse("the image has no channels");
+  // A decompression bomb: a small file claiming a huge image would have its texels allocated
+  // (and zeroed) before the decoder found the data missing.
+  const std::size_t raw = raw_bytes(format, bytes, std::size_t(size), std::size_t(spec.width),
+                                    std::size_t(spec.height), spec.nchannels);
+  const std::size_t ratio =
+      format == Format::png ? gltf_limits::kMaxPngRatio : gltf_limits::kMaxJpegRatio;
+  if (raw / ratio > std::size_t(size)) {
+    return refuse(std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                  " pixels cannot be encoded in " + std::to_string(size) + " bytes (" +
+                  (format == Format::png ? "PNG" : "JPEG") + " compresses at most " +
+                  std::to_string(ratio) + ":1)");
+  }
   if (format == Format::jpeg) {
     const long scans = jpeg_scans(bytes, std::size_t(size));
     const std::size_t pixels = std::size_t(spec.width) * std::size_t(spec.height);

@@ -509,6 +509,22 @@ TEST(GltfHostile, JpegWithTooManyScansIsRefusedBeforeDecoding) {
   EXPECT_EQ(s.textures[0].height, 48);
 }
 
+TEST(GltfHostile, DecompressionBombIsRefusedFromItsHeader) {
+  // A 16 x 16 JPEG whose frame header claims 8192 x 8192: within the size limits, but no
+  // 700-byte JPEG can encode it, and its texels (768 MiB as floats) would be allocated first.
+  std::vector<unsigned char> jpeg = encoded_image("bomb.jpg", 16, 16);
+  std::size_t sof = 2;
+  while (!(jpeg[sof] == 0xFF && jpeg[sof + 1] == 0xC0))
+    sof += 2 + (jpeg[sof + 2] << 8 | jpeg[sof + 3]);
+  for (std::size_t at : {sof + 5, sof + 7}) jpeg[at] = 0x20, jpeg[at + 1] = 0x00;
+  const fs::path dir = scratch("bomb");
+  EXPECT_CONTAINS(
+      load_error(write_json(dir / "asset" / "a.gltf",
+                            textured_doc({{"bufferView", 1}, {"mimeType", "image/jpeg"}}, jpeg))),
+      ": images[0]: 8192 x 8192 pixels cannot be encoded in " + std::to_string(jpeg.size()) +
+          " bytes (JPEG compresses at most 4096:1)");
+}
+
 // ---------------------------------------------------------------------------------------------
 // GLB container
 
