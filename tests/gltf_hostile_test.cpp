@@ -750,6 +750,18 @@ TEST(GltfHostile, MorphWeightSetsAreChargedPerMeshCopy) {
                   "load past its memory budget of 64.0 MiB");
 }
 
+TEST(GltfHostile, SkinMatricesAreChargedBeforeTheyAreRead) {
+  // One joint, but 2^22 zero-filled inverse bind matrices (512 MiB as double matrices).
+  const fs::path dir = scratch("skin");
+  json doc = triangle_doc(data_uri(bytes_of(kTriangle)));
+  doc["accessors"].push_back({{"componentType", 5126}, {"count", 1 << 22}, {"type", "MAT4"}});
+  doc["skins"] = json::array({{{"joints", {0}}, {"inverseBindMatrices", 1}}});
+  doc["nodes"][0]["skin"] = 0;
+  EXPECT_CONTAINS(load_error(write_json(dir / "asset" / "a.gltf", doc), with_budget(64 * kMiB)),
+                  ": accessors[1]: needs 512.0 MiB, which takes the load past its memory budget "
+                  "of 64.0 MiB");
+}
+
 TEST(GltfHostile, OneBinReferencedByManyBuffersIsChargedEachTime) {
   const fs::path dir = scratch("many_buffers");
   std::vector<unsigned char> bin = bytes_of(kTriangle);
