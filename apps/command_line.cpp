@@ -32,6 +32,15 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
         std::string(p->description) + " (" + takers + "; default " + fallback + ")");
   }
   add_allow_external_paths_flag(cmd, &o->allow_external_paths);
+  add_memory_limit_option(cmd, &o->memory_limit_gib);
+}
+
+void add_memory_limit_option(CLI::App* cmd, double* gib) {
+  cmd->add_option("--memory-limit", *gib,
+                  "GiB that loading the scene (geometry, texels, buffers) and the render's film "
+                  "may allocate")
+      ->check(CLI::Range(1.0 / 1024, 1024.0))
+      ->capture_default_str();
 }
 
 void add_scene_select_option(CLI::App* cmd, std::string* scene) {
@@ -72,6 +81,7 @@ SceneRequest scene_request(const SceneOptions& o, const SphereDetectionFlags& sp
 SessionOptions session_options(const SceneOptions& o) {
   SessionOptions options;
   options.threads = o.threads;
+  options.memory_budget_bytes = static_cast<uint64_t>(o.memory_limit_gib * double(uint64_t{1} << 30));
   return options;
 }
 

@@ -36,6 +36,7 @@ struct SceneOptions {
   std::string working_space = "linear-rec709";
   float background = 0.0f;
   bool allow_external_paths = false;  // buffers and images from outside the scene's folder
+  double memory_limit_gib = 8.0;      // SessionOptions::memory_budget_bytes, in GiB
   // Every integrator parameter given on the command line, by its name in the registry.
   ParameterSettings integrator_parameters;
 };
@@ -56,6 +57,8 @@ inline const CLI::Validator kPositiveFinite(
 void add_scene_select_option(CLI::App* cmd, std::string* scene);
 // Adds --allow-external-paths (every command that reads a scene file offers it).
 void add_allow_external_paths_flag(CLI::App* cmd, bool* allow);
+// Adds --memory-limit GIB (every command that reads a scene file offers it).
+void add_memory_limit_option(CLI::App* cmd, double* gib);
 
 // Adds the scene positional argument and --scene, --res, --camera, --threads,
 // --working-space, --background, --allow-external-paths and one flag per integrator

@@ -262,10 +262,11 @@ int run(const InfoOptions& o) {
   scene_options.scene_path = o.scene_path;
   scene_options.scene = o.scene;
   scene_options.allow_external_paths = o.allow_external_paths;
+  scene_options.memory_limit_gib = o.memory_limit_gib;
   SceneRequest request = scene_request(scene_options, detection_flags);
   // The file's own cameras and lights first; the defaults a render adds come after.
   request.add_defaults = false;
-  Session session(request);
+  Session session(request, session_options(scene_options));
   const SceneDescription& scene = session.scene();
   std::printf("file: %s\n", o.scene_path.c_str());
   const nlohmann::json root = read_gltf_json(o.scene_path);
@@ -320,6 +321,7 @@ CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
                   "Sphere mode the feature set assumes: analytic | mesh[:LEVEL] | embree-points")
       ->capture_default_str();
   add_allow_external_paths_flag(cmd, &o->allow_external_paths);
+  add_memory_limit_option(cmd, &o->memory_limit_gib);
   add_sphere_detection_options(cmd, &o->sphere_detection, false);
   add_scene_select_option(cmd, &o->scene);
   cmd->add_flag("--timing", o->timing,

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer target fuzz/gltf_loader_fuzz with Debian's clang, ASan and UBSan:
+# Builds the libFuzzer targets fuzz/gltf_loader_fuzz (the whole loader) and fuzz/gltf_image_fuzz
+# (the image path alone) with Debian's clang, ASan and UBSan:
 #   bash fuzz/build.sh [OUT_DIR]        (default build-fuzzer/)
 # A plain clang command line rather than a CMake configuration: the fuzzer needs only
 # scene_io and header-only parts of the renderer, and the main build uses g++. tinygltf and
@@ -31,19 +32,34 @@ compile() {
   "$CXX" "${FLAGS[@]}" "$@" -c "$src" -o "$obj"
 }
 
-pids=()
-compile "$SRC/fuzz/tinygltf_impl.cpp" "$OUT/tinygltf_impl.o" -w & pids+=($!)
+# At most FUZZ_JOBS compilers at once (default 2: the machine's cores are shared).
+JOBS=${FUZZ_JOBS:-2}
+failed=0
+throttle() {
+  while (($(jobs -rp | wc -l) >= JOBS)); do wait -n || failed=1; done
+}
+rm -f "$OUT/gltf_loader_fuzz.o"  # a main() from the layout before main/ would link twice
+throttle; compile "$SRC/fuzz/tinygltf_impl.cpp" "$OUT/tinygltf_impl.o" -w &
 for src in "$SRC"/scene_io/*.cpp; do
   f=$(basename "$src" .cpp)
-  compile "$src" "$OUT/$f.o" -Wall -Wextra -Werror & pids+=($!)
+  throttle; compile "$src" "$OUT/$f.o" -Wall -Wextra -Werror &
 done
-compile "$SRC/fuzz/gltf_loader_fuzz.cpp" "$OUT/gltf_loader_fuzz.o" -Wall -Wextra -Werror & pids+=($!)
+mkdir -p "$OUT/main"
+for target in gltf_loader_fuzz gltf_image_fuzz; do
+  throttle; compile "$SRC/fuzz/$target.cpp" "$OUT/main/$target.o" -Wall -Wextra -Werror &
+done
 # The loader generates tangents for normal-mapped primitives without TANGENT.
-compile "$SRC/renderer/geometry/tangents.cpp" "$OUT/tangents.o" -Wall -Wextra -Werror & pids+=($!)
-for p in "${pids[@]}"; do wait "$p"; done
+throttle; compile "$SRC/renderer/geometry/tangents.cpp" "$OUT/tangents.o" -Wall -Wextra -Werror &
+while (($(jobs -rp | wc -l) > 0)); do wait -n || failed=1; done
+if ((failed)); then
+  echo "fuzz/build.sh: a compilation failed" >&2
+  exit 1
+fi
 
 # libdraco (KHR_draco_mesh_compression), OpenImageIO (images) and TBB (their parallel
 # decode) are linked from Debian's builds, not instrumented.
-"$CXX" -fsanitize=fuzzer $SAN "$OUT"/*.o -ldraco -lOpenImageIO -lOpenImageIO_Util -ltbb \
-  -o "$OUT/gltf_loader_fuzz"
-echo "$OUT/gltf_loader_fuzz"
+for target in gltf_loader_fuzz gltf_image_fuzz; do
+  "$CXX" -fsanitize=fuzzer $SAN "$OUT"/*.o "$OUT/main/$target.o" -ldraco -lOpenImageIO \
+    -lOpenImageIO_Util -ltbb -o "$OUT/$target"
+  echo "$OUT/$target"
+done

@@ -55,7 +55,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   if (size > 0 && std::fwrite(data, 1, size, f) != size) std::abort();
   std::fclose(f);
   try {
-    const prism::SceneDescription scene = prism::load_gltf(path);
+    // A smaller budget than the default 8 GiB, so that the fuzzer's RSS limit (4 GiB) is never
+    // what stops a run: an input needing more is a LoadError like any other.
+    prism::LoadOptions options;
+    options.memory_limit = std::size_t{1} << 30;
+    const prism::SceneDescription scene = prism::load_gltf(path, options);
     // Touch what was loaded so that a bad size or pointer shows up under ASan here.
     std::size_t sum = 0;
     for (const auto& mesh : scene.meshes) {

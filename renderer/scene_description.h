@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,10 @@ struct TextureImage {
   int height = 0;
   int channels = 0;           // 1..4
   std::vector<float> texels;  // width * height * channels, row 0 at the top (glTF's UV origin)
+  // Set instead of `texels` by the loader: one decoded image shared by every texture reading it,
+  // whatever its sampler or encoding. pixels() is whichever holds the values.
+  std::shared_ptr<const std::vector<float>> shared_texels;
+  const std::vector<float>& pixels() const { return shared_texels ? *shared_texels : texels; }
   TextureEncoding encoding = TextureEncoding::srgb;
   TextureWrap wrap_s = TextureWrap::repeat;
   TextureWrap wrap_t = TextureWrap::repeat;

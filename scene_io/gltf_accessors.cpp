@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 
 namespace prism::gltf_detail {
@@ -68,6 +69,14 @@ T load(const unsigned char* p) {
   T value;
   std::memcpy(&value, p, sizeof(T));
   return value;
+}
+
+// The copy a reader returns, charged to the load's budget before it is allocated: every read
+// is a new copy, whether or not another primitive or pose read the same accessor.
+template <typename T>
+std::vector<T> charged_copy(const AccessorView& view, const T& zero) {
+  charge(view.count, sizeof(T), view.element());
+  return std::vector<T>(view.count, zero);
 }
 
 void expect_components(const AccessorView& view, int components, const std::string& what,
@@ -225,7 +234,7 @@ std::vector<V3f> read_vec3_float(const AccessorView& view, const std::string& wh
                                  const std::string& file) {
   expect_components(view, 3, what, file);
   expect_float(view, what, file);
-  std::vector<V3f> out(view.count, V3f(0.0f));
+  std::vector<V3f> out = charged_copy(view, V3f(0.0f));
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
@@ -261,7 +270,7 @@ float unit_component(const AccessorView& view, const unsigned char* element, int
 std::vector<V2f> read_texcoords(const AccessorView& view, const std::string& file) {
   expect_components(view, 2, "TEXCOORD_0", file);
   expect_float_or_normalized(view, "TEXCOORD_0", file);
-  std::vector<V2f> out(view.count, V2f(0.0f));
+  std::vector<V2f> out = charged_copy(view, V2f(0.0f));
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
@@ -281,7 +290,7 @@ std::vector<uint32_t> read_indices(const AccessorView& view, const std::string& 
          std::string("indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, not ") +
              (view.normalized ? "normalized " : "") + component_type_name(type));
   }
-  std::vector<uint32_t> out(view.count, 0);
+  std::vector<uint32_t> out = charged_copy(view, uint32_t{0});
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
@@ -307,7 +316,7 @@ std::vector<std::array<uint32_t, 4>> read_joints(const AccessorView& view, const
          what + " must be UNSIGNED_BYTE or UNSIGNED_SHORT, not " +
              (view.normalized ? "normalized " : "") + component_type_name(type));
   }
-  std::vector<std::array<uint32_t, 4>> out(view.count, {0, 0, 0, 0});
+  std::vector<std::array<uint32_t, 4>> out = charged_copy(view, std::array<uint32_t, 4>{});
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
@@ -322,7 +331,7 @@ std::vector<std::array<float, 4>> read_weights(const AccessorView& view, const s
                                                const std::string& file) {
   expect_components(view, 4, what, file);
   expect_float_or_normalized(view, what, file);
-  std::vector<std::array<float, 4>> out(view.count, {0.0f, 0.0f, 0.0f, 0.0f});
+  std::vector<std::array<float, 4>> out = charged_copy(view, std::array<float, 4>{});
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
@@ -335,7 +344,7 @@ std::vector<M44d> read_mat4_float(const AccessorView& view, const std::string& w
                                   const std::string& file) {
   expect_components(view, 16, what, file);
   expect_float(view, what, file);
-  std::vector<M44d> out(view.count, M44d(0.0));
+  std::vector<M44d> out = charged_copy(view, M44d(0.0));
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;

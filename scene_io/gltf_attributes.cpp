@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 
 namespace prism::gltf_detail {
@@ -11,6 +12,7 @@ std::vector<Imath::V4f> read_colours(const AccessorView& view, const std::string
   if (view.components != 3 && view.components != 4)
     fail(file, view.element(), "COLOR_0 must be VEC3 or VEC4");
   expect_float_or_normalized(view, "COLOR_0", file);
+  charge(view.count, sizeof(Imath::V4f), view.element());
   std::vector<Imath::V4f> out(view.count, Imath::V4f(0.0f, 0.0f, 0.0f, 1.0f));
   if (!view.data) {
     if (view.components == 4)
@@ -37,6 +39,7 @@ std::vector<Imath::V4f> read_tangents(const AccessorView& view, const std::strin
       view.normalized) {
     fail(file, view.element(), "TANGENT must be VEC4 of FLOAT");
   }
+  charge(view.count, sizeof(Imath::V4f), view.element());
   std::vector<Imath::V4f> out(view.count, Imath::V4f(1.0f, 0.0f, 0.0f, 1.0f));
   if (!view.data) return out;
   for (std::size_t i = 0; i < view.count; ++i) {

@@ -9,6 +9,7 @@
 #include <draco/mesh/mesh.h>
 
 #include "scene_io/gltf_accessors.h"
+#include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 
 namespace prism::gltf_detail {
@@ -162,6 +163,7 @@ class PrimitiveDecoder {
   }
 
   int decoded_indices(const draco::Mesh& mesh) {
+    charge(std::size_t(mesh.num_faces()) * 3, sizeof(uint32_t), element_ + ".indices");
     std::vector<unsigned char> bytes(std::size_t(mesh.num_faces()) * 3 * sizeof(uint32_t));
     for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
       const draco::Mesh::Face& face = mesh.face(draco::FaceIndex(f));
@@ -197,6 +199,7 @@ class PrimitiveDecoder {
            "count " + std::to_string(original.count) + " but the Draco mesh has " +
                std::to_string(mesh.num_points()) + " points");
     }
+    charge(mesh.num_points(), element_size, attr_element);
     std::vector<unsigned char> bytes(std::size_t(mesh.num_points()) * element_size);
     if (!convert_to(original.componentType, *attribute, mesh.num_points(), components,
                     bytes.data())) {

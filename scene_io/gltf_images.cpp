@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 
@@ -9,6 +10,7 @@
 #include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
 
+#include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 #include "scene_io/gltf_limits.h"
 
@@ -21,23 +23,131 @@ uint32_t be32(const unsigned char* p) {  // PNG stores sizes big-endian
 }
 
 constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+constexpr unsigned char kKtx2Signature[12] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                              '0',  0xBB, '\r', '\n', 0x1A, '\n'};
 
-// The name OpenImageIO picks its reader by. Images in a buffer or data URI have no file
-// name, and a mimeType or extension may lie, so the two formats glTF allows are recognised
-// by their signatures; anything else goes by the URI's extension (OpenImageIO tries its
-// other readers when that fails too).
-std::string format_hint(const tinygltf::Image& image, const unsigned char* bytes,
-                        std::size_t size) {
-  if (size >= 8 && std::memcmp(bytes, kPngSignature, 8) == 0) return "image.png";
-  if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return "image.jpg";
-  const std::string extension = OIIO::Filesystem::extension(image.uri);
-  return "image" + (extension.size() <= 8 ? extension : std::string());
+enum class Format { png, jpeg, webp, ktx2, other };
+
+// By the signature alone: a mimeType, a data: URI's media type or a file's extension may lie,
+// and OpenImageIO's other readers (IFF, DPX, DDS, ...) must never see a glTF image.
+Format sniff(const unsigned char* bytes, std::size_t size) {
+  if (size >= 8 && std::memcmp(bytes, kPngSignature, 8) == 0) return Format::png;
+  if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return Format::jpeg;
+  if (size >= 12 && std::memcmp(bytes, "RIFF", 4) == 0 && std::memcmp(bytes + 8, "WEBP", 4) == 0)
+    return Format::webp;
+  if (size >= 12 && std::memcmp(bytes, kKtx2Signature, 12) == 0) return Format::ktx2;
+  return Format::other;
 }
 
-std::unique_ptr<OIIO::ImageInput> open(const tinygltf::Image& image, const unsigned char* bytes,
-                                       std::size_t size, OIIO::Filesystem::IOMemReader* proxy) {
-  auto in = OIIO::ImageInput::open(format_hint(image, bytes, size), nullptr, proxy);
-  if (!in) OIIO::geterror();  // clear this thread's message: the caller words its own
+const char* media_type(Format f) {
+  switch (f) {
+    case Format::png:
+      return "image/png";
+    case Format::jpeg:
+      return "image/jpeg";
+    case Format::webp:
+      return "image/webp";
+    case Format::ktx2:
+      return "image/ktx2";
+    default:
+      return "";
+  }
+}
+
+// The first bytes in hex, to say what an unrecognised image starts with.
+std::string first_bytes(const unsigned char* bytes, std::size_t size) {
+  std::string out;
+  char hex[4];
+  for (std::size_t i = 0; i < std::min<std::size_t>(size, 8); ++i) {
+    std::snprintf(hex, sizeof hex, "%s%02X", i ? " " : "", bytes[i]);
+    out += hex;
+  }
+  return out;
+}
+
+// Empty when the image's format and declared media type are accepted; else why not.
+std::string format_problem(Format format, const std::string& declared, const unsigned char* bytes,
+                           std::size_t size) {
+  switch (format) {
+    case Format::webp:
+      return "a WebP image (EXT_texture_webp), which is not supported; glTF images must be PNG "
+             "or JPEG";
+    case Format::ktx2:
+      return "a KTX2 image (KHR_texture_basisu), which is not supported; glTF images must be "
+             "PNG or JPEG";
+    case Format::other:
+      return "not a PNG or JPEG image (it starts with " + first_bytes(bytes, size) +
+             "); glTF images must be PNG or JPEG";
+    default:
+      break;
+  }
+  if (!declared.empty() && declared != media_type(format)) {
+    return "declared as " + shown(declared) + " but the bytes are " +
+           (format == Format::png ? "PNG" : "JPEG");
+  }
+  return {};
+}
+
+uint16_t be16(const unsigned char* p) {
+  return uint16_t(p[0] << 8 | p[1]);
+}
+
+// The number of scans (SOS markers) of a JPEG, walked from its markers: a progressive JPEG's
+// decoding time grows with its scans, and libjpeg accepts thousands. -1 when the marker
+// structure is broken (the decoder then refuses the file itself).
+long jpeg_scans(const unsigned char* bytes, std::size_t size) {
+  long scans = 0;
+  std::size_t pos = 2;  // after SOI
+  while (pos + 1 < size) {
+    if (bytes[pos] != 0xFF) return -1;
+    const unsigned char marker = bytes[pos + 1];
+    if (marker == 0xFF) {  // fill byte
+      ++pos;
+      continue;
+    }
+    if (marker == 0xD9) break;  // EOI
+    if ((marker >= 0xD0 && marker <= 0xD7) || marker == 0x01) {
+      pos += 2;
+      continue;
+    }
+    if (pos + 4 > size) return -1;
+    const std::size_t length = be16(bytes + pos + 2);
+    if (length < 2 || length > size - pos - 2) return -1;
+    pos += 2 + length;
+    if (marker != 0xDA) continue;
+    ++scans;
+    // Entropy-coded data runs to the next marker that is neither a stuffed 0xFF00 nor RSTn.
+    while (pos + 1 < size && !(bytes[pos] == 0xFF && bytes[pos + 1] != 0x00 &&
+                               !(bytes[pos + 1] >= 0xD0 && bytes[pos + 1] <= 0xD7))) {
+      ++pos;
+    }
+  }
+  return scans;
+}
+
+// The bytes of the image's pixels as the format stores them before compression: for PNG from
+// its IHDR (bit depth x samples of the colour type, rows rounded up to bytes), for JPEG
+// 8 bits per channel.
+std::size_t raw_bytes(Format format, const unsigned char* bytes, std::size_t size,
+                      std::size_t width, std::size_t height, int channels) {
+  if (format != Format::png || size < 26) return width * height * std::size_t(channels);
+  const unsigned depth = bytes[24];
+  const unsigned samples = bytes[25] == 2 ? 3 : bytes[25] == 4 ? 2 : bytes[25] == 6 ? 4 : 1;
+  return height * ((width * depth * samples + 7) / 8);
+}
+
+// The format's own reader, by name: OpenImageIO's ImageInput::open would fall back to every
+// other reader it has when this one fails.
+std::unique_ptr<OIIO::ImageInput> open(Format format, OIIO::Filesystem::IOMemReader* proxy) {
+  const char* name = format == Format::png ? "png" : "jpeg";
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create(name);
+  OIIO::ImageSpec spec;
+  if (!in || !in->set_ioproxy(proxy) || !in->open(std::string("image.") + name, spec) ||
+      in->format_name() != std::string(name)) {
+    if (in) in->geterror();  // clear the reader's message: the caller words its own
+    OIIO::geterror();
+    return nullptr;
+  }
   return in;
 }
 
@@ -67,34 +177,72 @@ bool check_image_header(tinygltf::Image* image, const int index, std::string* er
                         std::string* /*warn*/, int /*req_width*/, int /*req_height*/,
                         const unsigned char* bytes, int size, void* user_data) {
   auto& guard = *static_cast<ImageGuard*>(user_data);
+  const std::string element = indexed("images", std::size_t(index));
   const auto refuse = [&](const std::string& what) {
-    guard.element = indexed("images", std::size_t(index));
+    guard.element = element;
     guard.what = what;
-    if (err) *err += guard.element + ": " + what + "\n";
+    if (err) *err += element + ": " + what + "\n";
     return false;
   };
   if (size <= 0) return refuse("the image is empty");
+  const Format format = sniff(bytes, std::size_t(size));
+  const std::string declared = std::size_t(index) < guard.declared_type.size()
+                                   ? guard.declared_type[std::size_t(index)]
+                                   : std::string();
+  if (const std::string problem = format_problem(format, declared, bytes, std::size_t(size));
+      !problem.empty())
+    return refuse(problem);
   OIIO::Filesystem::IOMemReader proxy(bytes, std::size_t(size));
-  const std::unique_ptr<OIIO::ImageInput> in = open(*image, bytes, std::size_t(size), &proxy);
+  const std::unique_ptr<OIIO::ImageInput> in = open(format, &proxy);
   if (!in) {
     // A PNG whose header is fine but whose data is cut short (or a hostile header alone)
     // fails to open; its claimed size is still worth stating when it is the problem.
-    if (size >= 24 && std::memcmp(bytes, kPngSignature, 8) == 0 &&
-        std::memcmp(bytes + 12, "IHDR", 4) == 0) {
+    if (size >= 24 && format == Format::png && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
       const std::string problem = size_problem(be32(bytes + 16), be32(bytes + 20), guard);
       if (!problem.empty()) return refuse(problem);
     }
-    return refuse("not an image in a format the decoder reads (PNG, JPEG, ...)");
+    return refuse(std::string("the ") + (format == Format::png ? "PNG" : "JPEG") +
+                  " image cannot be read");
   }
   const OIIO::ImageSpec& spec = in->spec();
   if (const std::string problem = size_problem(spec.width, spec.height, guard); !problem.empty())
     return refuse(problem);
+  // Texel storage is width x height x channels: a volume would be read past it.
+  if (spec.depth != 1) return refuse("a volume image (depth " + std::to_string(spec.depth) + ")");
   if (spec.nchannels < 1) return refuse("the image has no channels");
+  // A decompression bomb: a small file claiming a huge image would have its texels allocated
+  // (and zeroed) before the decoder found the data missing.
+  const std::size_t raw = raw_bytes(format, bytes, std::size_t(size), std::size_t(spec.width),
+                                    std::size_t(spec.height), spec.nchannels);
+  const std::size_t ratio =
+      format == Format::png ? gltf_limits::kMaxPngRatio : gltf_limits::kMaxJpegRatio;
+  if (raw / ratio > std::size_t(size)) {
+    return refuse(std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                  " pixels cannot be encoded in " + std::to_string(size) + " bytes (" +
+                  (format == Format::png ? "PNG" : "JPEG") + " compresses at most " +
+                  std::to_string(ratio) + ":1)");
+  }
+  if (format == Format::jpeg) {
+    const long scans = jpeg_scans(bytes, std::size_t(size));
+    const std::size_t pixels = std::size_t(spec.width) * std::size_t(spec.height);
+    if (scans > gltf_limits::kMaxJpegScans ||
+        (scans > 0 && pixels > gltf_limits::kMaxJpegScanPixels / std::size_t(scans))) {
+      return refuse(std::to_string(scans) + " JPEG scans of " + std::to_string(pixels) +
+                    " pixels exceed the decoding limits (" +
+                    std::to_string(gltf_limits::kMaxJpegScans) + " scans, " +
+                    std::to_string(gltf_limits::kMaxJpegScanPixels) + " pixels x scans)");
+    }
+  }
   image->width = spec.width;
   image->height = spec.height;
   image->component = std::min(spec.nchannels, 4);
   image->bits = static_cast<int>(8 * spec.format.size());
   image->as_is = true;  // the encoded file, decoded later by decode_images
+  image->mimeType = media_type(format);
+  // The decoded texels and the copy of the encoded bytes kept until then.
+  charge(std::size_t(spec.width) * std::size_t(spec.height),
+         std::size_t(image->component) * sizeof(float), element);
+  charge(std::size_t(size), 1, element);
   image->image.assign(bytes, bytes + size);
   return true;
 }
@@ -113,7 +261,7 @@ std::vector<DecodedImage> decode_images(const tinygltf::Model& model,
     }
     OIIO::Filesystem::IOMemReader proxy(image.image.data(), image.image.size());
     const std::unique_ptr<OIIO::ImageInput> in =
-        open(image, image.image.data(), image.image.size(), &proxy);
+        open(sniff(image.image.data(), image.image.size()), &proxy);
     // The header was read before: a size that changed is a broken reader, not a new file.
     if (!in || in->spec().width != image.width || in->spec().height != image.height) {
       errors[i] = "the image cannot be decoded";
@@ -123,17 +271,16 @@ std::vector<DecodedImage> decode_images(const tinygltf::Model& model,
     d.width = image.width;
     d.height = image.height;
     d.channels = image.component;
-    d.texels.resize(std::size_t(d.width) * std::size_t(d.height) * std::size_t(d.channels));
+    auto texels = std::make_shared<std::vector<float>>(
+        std::size_t(d.width) * std::size_t(d.height) * std::size_t(d.channels));
     // Integer formats arrive normalised to [0, 1], as glTF defines their values.
-    if (!in->read_image(0, 0, 0, d.channels, OIIO::TypeDesc::FLOAT, d.texels.data())) {
+    if (!in->read_image(0, 0, 0, d.channels, OIIO::TypeDesc::FLOAT, texels->data())) {
       const std::string why = one_line(in->geterror());
       errors[i] = "the image cannot be decoded" + (why.empty() ? std::string() : ": " + why);
       d = DecodedImage();
       return;
     }
-    // Float formats (EXR, HDR) may hold anything; a texel must at least be a number.
-    for (float& v : d.texels)
-      if (!std::isfinite(v)) v = 0.0f;
+    d.texels = std::move(texels);
   });
   for (std::size_t i = 0; i < count; ++i)
     if (!errors[i].empty()) fail(file, indexed("images", i), errors[i]);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,13 +14,19 @@ namespace prism::gltf_detail {
 
 // State of the tinygltf image callback, over one file.
 struct ImageGuard {
+  // Per image, the media type the file declares for it ("" for none): its mimeType, or the
+  // media type of its data: URI. The bytes' signature must agree with it.
+  std::vector<std::string> declared_type;
   std::size_t texels_used = 0;
   std::string element;  // set when an image was refused
   std::string what;
 };
 
-// tinygltf's LoadImageDataFunction (user_data: an ImageGuard). Reads only the image's header,
-// refuses sizes over the limits of gltf_limits.h, and keeps the encoded bytes in
+// tinygltf's LoadImageDataFunction (user_data: an ImageGuard). Accepts PNG and JPEG only,
+// recognised by their signatures (and agreeing with the declared media type) before any
+// decoder sees the bytes; reads only the header through the format's own reader, refuses sizes
+// over the limits of gltf_limits.h, volumes (depth > 1) and JPEGs with too many scans,
+// charges the decoded texels to the load's budget, and keeps the encoded bytes in
 // tinygltf::Image::image (as_is = true) for decode_images.
 bool check_image_header(tinygltf::Image* image, int index, std::string* err, std::string* warn,
                         int req_width, int req_height, const unsigned char* bytes, int size,
@@ -30,7 +37,8 @@ struct DecodedImage {
   int width = 0;
   int height = 0;
   int channels = 0;  // 1..4
-  std::vector<float> texels;
+  // Shared by every texture that reads the image, whatever its sampler or encoding.
+  std::shared_ptr<const std::vector<float>> texels;
 };
 
 // Decodes model.images[i] for every i with wanted[i], in parallel; the others stay empty.

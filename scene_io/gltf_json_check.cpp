@@ -1,24 +1,17 @@
 #include "scene_io/gltf_json_check.h"
 
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
 #include "scene_io/gltf_error.h"
+#include "scene_io/gltf_extensions.h"
 
 namespace prism::gltf_detail {
 
 namespace {
 
 using nlohmann::json;
-
-constexpr std::array<const char*, 9> kSupportedExtensions = {
-    "KHR_lights_punctual",        "KHR_materials_transmission",
-    "KHR_materials_ior",          "KHR_materials_emissive_strength",
-    "KHR_materials_specular",     "PRISM_sphere",
-    "KHR_draco_mesh_compression", "KHR_materials_pbrSpecularGlossiness",
-    "KHR_texture_transform"};
 
 class Checker {
  public:
@@ -104,6 +97,16 @@ class Checker {
     }
   }
 
+  // Enumerations and small counts that tinygltf stores as int: a value such as 2^32 + 4 would
+  // be truncated to 4 and mean something else.
+  void int_value(const json& obj, const char* key, const std::string& path, bool required) const {
+    if (const json* j = find(obj, key, path, required)) {
+      if (!integral(*j, 0, std::numeric_limits<int>::max())) {
+        error(member(path, key), "expected an integer in [0, 2^31 - 1], got " + describe(*j));
+      }
+    }
+  }
+
   void number(const json& obj, const char* key, const std::string& path,
               bool required = false) const {
     if (const json* j = find(obj, key, path, required)) check_number(*j, member(path, key));
@@ -175,7 +178,7 @@ class Checker {
     if (const json* t = sub_object(obj, key, path)) {
       const std::string p = member(path, key);
       index(*t, "index", p, true);
-      unsigned_int(*t, "texCoord", p, false);
+      int_value(*t, "texCoord", p, false);
       number(*t, "scale", p);
       number(*t, "strength", p);
     }
@@ -280,7 +283,7 @@ void check_primitive(const Checker& c, const json& prim, const std::string& p) {
   }
   c.index(prim, "indices", p);
   c.index(prim, "material", p);
-  c.unsigned_int(prim, "mode", p, false);
+  c.int_value(prim, "mode", p, false);
   c.object_array(prim, "targets", p, [&](const json& target, const std::string& tp) {
     for (const auto& [name, value] : target.items()) c.check_index(value, tp + "." + name);
   });
@@ -300,7 +303,7 @@ void check_camera(const Checker& c, const json& cam, const std::string& p) {
   c.string(cam, "type", p, true);
   const std::string type = cam["type"].get<std::string>();
   if (type != "perspective" && type != "orthographic") {
-    c.error(p + ".type", "unknown camera type \"" + type + "\"");
+    c.error(p + ".type", "unknown camera type " + shown(type));
   }
   if (const json* persp = c.sub_object(cam, "perspective", p, type == "perspective")) {
     const std::string pp = p + ".perspective";
@@ -354,13 +357,6 @@ void check_image_buffer_views(const Checker& c, const json& root) {
 
 }  // namespace
 
-bool is_supported_extension(const std::string& name) {
-  for (const char* supported : kSupportedExtensions) {
-    if (name == supported) return true;
-  }
-  return false;
-}
-
 void check_gltf_json(const nlohmann::json& root, const std::string& file,
                      std::vector<std::string>& warnings) {
   const Checker c(file);
@@ -374,15 +370,15 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
     for (const auto& name : *req) {
       if (!is_supported_extension(name.get<std::string>())) {
         c.error("extensionsRequired",
-                "extension " + name.get<std::string>() + " is required but not supported");
+                "extension " + shown(name.get<std::string>()) + " is required but not supported");
       }
     }
   }
   if (auto used = root.find("extensionsUsed"); used != root.end()) {
     for (const auto& name : *used) {
       if (!is_supported_extension(name.get<std::string>())) {
-        warnings.push_back(file + ": extensionsUsed: extension " + name.get<std::string>() +
-                           " is not supported and is ignored");
+        warnings.push_back(warning("extensionsUsed", "extension " + shown(name.get<std::string>()) +
+                                                         " is not supported and is ignored"));
       }
     }
   }
@@ -410,7 +406,7 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
   c.object_array(root, "accessors", "", [&](const json& a, const std::string& p) {
     c.index(a, "bufferView", p);
     c.unsigned_int(a, "byteOffset", p, false);
-    c.unsigned_int(a, "componentType", p, true);
+    c.int_value(a, "componentType", p, true);
     c.boolean(a, "normalized", p);
     c.unsigned_int(a, "count", p, true, 1);
     c.string(a, "type", p, true);
@@ -428,7 +424,7 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
         const std::string pp = sp + "." + part;
         c.index(*o, "bufferView", pp, true);
         c.index(*o, "byteOffset", pp);
-        if (std::string(part) == "indices") c.unsigned_int(*o, "componentType", pp, true);
+        if (std::string(part) == "indices") c.int_value(*o, "componentType", pp, true);
       }
     }
   });
@@ -437,7 +433,7 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
     c.unsigned_int(v, "byteOffset", p, false);
     c.unsigned_int(v, "byteLength", p, true, 1);
     c.unsigned_int(v, "byteStride", p, false, 4);
-    c.unsigned_int(v, "target", p, false);
+    c.int_value(v, "target", p, false);
   });
   c.object_array(root, "buffers", "", [&](const json& b, const std::string& p) {
     c.string(b, "uri", p);
@@ -457,7 +453,7 @@ void check_gltf_json(const nlohmann::json& root, const std::string& file,
   check_image_buffer_views(c, root);
   c.object_array(root, "samplers", "", [&](const json& s, const std::string& p) {
     for (const char* key : {"magFilter", "minFilter", "wrapS", "wrapT"}) {
-      c.unsigned_int(s, key, p, false);
+      c.int_value(s, key, p, false);
     }
   });
   c.object_array(root, "cameras", "",

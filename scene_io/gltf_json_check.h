@@ -13,9 +13,6 @@
 
 namespace prism::gltf_detail {
 
-// Extensions Prism implements; anything else in extensionsRequired is rejected.
-bool is_supported_extension(const std::string& name);
-
 // Throws LoadError on the first problem; appends warnings (unsupported optional extensions).
 void check_gltf_json(const nlohmann::json& root, const std::string& file,
                      std::vector<std::string>& warnings);

@@ -30,6 +30,22 @@ inline constexpr std::size_t kMaxImageTexels = std::size_t{1} << 26;  // 64 Mi, 
 // All images of a file together (tinygltf decodes every image, used or not).
 inline constexpr std::size_t kMaxTotalImageTexels = std::size_t{1} << 27;  // 128 Mi
 
+// JPEG decoding time grows with the number of scans (progressive JPEGs), each a pass over the
+// whole image: libjpeg accepts thousands, and 20 000 scans decode for more than ten minutes.
+// Encoders write at most a few dozen.
+inline constexpr long kMaxJpegScans = 128;
+inline constexpr std::size_t kMaxJpegScanPixels = std::size_t{1} << 31;  // e.g. 8192 x 8192 x 32
+
+// The most an image's raw pixels may exceed its file: deflate expands at most 1032:1, and a
+// JPEG of flat 8 x 8 blocks costs a few bits per block (about 400:1 for RGB); a header claiming
+// more is a decompression bomb.
+inline constexpr std::size_t kMaxPngRatio = 1100;
+inline constexpr std::size_t kMaxJpegRatio = 4096;
+
+// Largest index of refraction (KHR_materials_ior): real materials stay below 5; far larger
+// values overflow the float Fresnel terms.
+inline constexpr double kMaxIor = 1000.0;
+
 // A sparse accessor without a bufferView is zeros plus its substitutions; the loader allocates
 // it whole (count x element size), so a tiny file must not be able to claim gigabytes. With a
 // bufferView the file's own bytes already bound it.

@@ -12,22 +12,26 @@
 #include <optional>
 #include <tuple>
 
+#include <Imath/ImathBox.h>
 #include <tiny_gltf.h>
 #include <nlohmann/json.hpp>
 
-#include "renderer/math.h"
 #include "renderer/geometry/tangents.h"
+#include "renderer/math.h"
 #include "scene_io/gltf_accessors.h"
 #include "scene_io/gltf_attributes.h"
+#include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_draco.h"
 #include "scene_io/gltf_error.h"
+#include "scene_io/gltf_extensions.h"
+#include "scene_io/gltf_files.h"
+#include "scene_io/gltf_glb.h"
 #include "scene_io/gltf_images.h"
 #include "scene_io/gltf_json_check.h"
 #include "scene_io/gltf_limits.h"
 #include "scene_io/gltf_rest_pose.h"
 #include "scene_io/gltf_scene_select.h"
 #include "scene_io/gltf_sparse.h"
-#include "scene_io/gltf_specular_glossiness.h"
 
 namespace prism {
 
@@ -37,78 +41,22 @@ using namespace gltf_detail;
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The renderer holds colours, intensities and vertex positions as float: a value that is finite
+// as a double may not be.
+bool finite_float(double v) {
+  return std::isfinite(v) && std::fabs(v) <= double(std::numeric_limits<float>::max());
+}
+
 std::vector<unsigned char> read_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "file", "does not exist");
-  if (!std::filesystem::is_regular_file(path, ec)) fail(path, "file", "is not a regular file");
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) fail(path, "file", std::string("cannot be opened: ") + std::strerror(errno));
-  const std::streamoff size = in.tellg();
-  if (size < 0) fail(path, "file", "cannot tell its size");
-  // tinygltf takes lengths as unsigned int; checked before anything is allocated.
-  if (static_cast<std::uint64_t>(size) >= std::numeric_limits<unsigned int>::max()) {
-    fail(path, "file", "larger than 4 GiB");
-  }
-  // One read of the known size: a byte-wise istreambuf_iterator copy cost 8x the rest of
-  // loading a million-triangle GLB (callgrind, docs/benchmarks.md).
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-  in.seekg(0);
-  in.read(reinterpret_cast<char*>(bytes.data()), size);
-  if (in.gcount() != size) fail(path, "file", "read error");
-  return bytes;
+  // tinygltf takes lengths as unsigned int. The user named this file, so a symlink is followed.
+  return read_regular_file(path, std::numeric_limits<unsigned int>::max() - 1, std::nullopt, "file",
+                           path, /*follow_symlink=*/true);
 }
 
 bool is_glb(const std::vector<unsigned char>& bytes) {
   return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-}
-
-uint32_t le32(const unsigned char* p) {
-  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-// The JSON chunk of a GLB, so that it gets the same type checks as a .gltf.
-std::string glb_json(const std::vector<unsigned char>& bytes, const std::string& file) {
-  if (bytes.size() < 20) fail(file, "GLB header", "file too short");
-  const uint32_t version = le32(bytes.data() + 4);
-  if (version != 2) fail(file, "GLB header", "version " + std::to_string(version) + ", not 2");
-  const uint32_t length = le32(bytes.data() + 8);
-  if (length > bytes.size()) {
-    fail(file, "GLB header",
-         "declared length " + std::to_string(length) + " exceeds the file size " +
-             std::to_string(bytes.size()));
-  }
-  // Checked before `length - 20` below, which would wrap around for a smaller length and let
-  // a huge chunk length through (found by the fuzzer: fuzz/, docs/fuzzing.md).
-  if (length < 20) {
-    fail(file, "GLB header",
-         "declared length " + std::to_string(length) + " is shorter than the 20-byte header");
-  }
-  const uint32_t chunk_length = le32(bytes.data() + 12);
-  if (le32(bytes.data() + 16) != 0x4E4F534Au) fail(file, "GLB", "first chunk is not JSON");
-  if (chunk_length > length - 20) fail(file, "GLB", "JSON chunk exceeds the file");
-  return std::string(reinterpret_cast<const char*>(bytes.data() + 20), chunk_length);
-}
-
-// The same GLB with its JSON chunk replaced (glb_json has validated the header).
-std::vector<unsigned char> with_glb_json(const std::vector<unsigned char>& bytes, std::string json,
-                                         const std::string& file) {
-  while (json.size() % 4 != 0) json += ' ';  // chunks are 4-byte aligned
-  const std::size_t rest_begin = 20 + std::size_t(le32(bytes.data() + 12));
-  const std::size_t rest_end = le32(bytes.data() + 8);
-  const std::size_t length = 20 + json.size() + (rest_end - rest_begin);
-  if (length >= std::numeric_limits<uint32_t>::max()) fail(file, "GLB", "larger than 4 GiB");
-  std::vector<unsigned char> out(length);
-  std::memcpy(out.data(), bytes.data(), 20);  // magic, version, chunk type kept
-  const auto put32 = [&](std::size_t at, std::size_t v) {
-    for (int i = 0; i < 4; ++i) out[at + std::size_t(i)] = static_cast<unsigned char>(v >> (8 * i));
-  };
-  put32(8, length);
-  put32(12, json.size());
-  std::memcpy(out.data() + 20, json.data(), json.size());
-  if (rest_end > rest_begin) {
-    std::memcpy(out.data() + 20 + json.size(), bytes.data() + rest_begin, rest_end - rest_begin);
-  }
-  return out;
 }
 
 nlohmann::json parse_json(const std::string& text, const std::string& file) {
@@ -147,39 +95,42 @@ nlohmann::json parse_json(const std::string& text, const std::string& file) {
   }
 }
 
-std::string url_decode(const std::string& uri) {
-  std::string out;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
-        std::isxdigit(uint8_t(uri[i + 2]))) {
-      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-      i += 2;
-    } else {
-      out += uri[i];
-    }
-  }
-  return out;
-}
-
 // Decoded size of `length` base64 characters (without '=' padding), as tinygltf's decoder
 // counts them: 3 bytes per 4 characters, and 1 or 2 bytes for a final 2 or 3.
 std::size_t base64_decoded_size(std::size_t length) {
   return length / 4 * 3 + (length % 4 == 0 ? 0 : length % 4 - 1);
 }
 
-// A data: URI's size, from its text, before tinygltf decodes it: tinygltf requires a buffer's
-// decoded size to equal byteLength but only says "failed" when it does not, and it would decode
-// a URI of any size first.
-void check_data_uri(const std::string& uri, const nlohmann::json& object, bool is_buffer,
-                    const std::string& element, const std::string& file) {
-  const std::size_t comma = uri.find(',');
-  if (comma == std::string::npos ||
-      uri.compare(comma - std::min(comma, std::size_t{7}), 7, ";base64") != 0) {
-    fail(file, element, "only base64 data: URIs are supported");
+// The media types glTF allows in data: URIs, with the base64 encoding tinygltf decodes
+// (tinygltf treats a data: URI of any other type as a file path).
+const std::vector<std::string> kBufferMediaTypes = {"application/octet-stream",
+                                                    "application/gltf-buffer"};
+const std::vector<std::string> kImageMediaTypes = {"image/png", "image/jpeg"};
+
+// A data: URI's media type and size, from its text, before tinygltf decodes it: tinygltf
+// requires a buffer's decoded size to equal byteLength but only says "failed" when it does
+// not, and it would decode a URI of any size first. Returns the media type.
+std::string check_data_uri(const std::string& uri, const nlohmann::json& object, bool is_buffer,
+                           const std::string& element, const std::string& file) {
+  const std::vector<std::string>& allowed = is_buffer ? kBufferMediaTypes : kImageMediaTypes;
+  std::string type;
+  for (const std::string& t : allowed) {
+    if (uri.rfind("data:" + t + ";base64,", 0) == 0) type = t;
   }
+  if (type.empty()) {
+    for (const std::string& t : allowed)
+      if (uri.rfind("data:" + t + ",", 0) == 0 || uri.rfind("data:" + t + ";", 0) == 0)
+        fail(file, element, "only base64 data: URIs are supported");
+    const std::size_t end = std::min(uri.find_first_of(";,"), uri.size());
+    fail(file, element,
+         "data: URI of media type " + shown(uri.substr(5, end - 5)) + " is not allowed for " +
+             (is_buffer ? "a buffer" : "an image") + " (only base64 " + allowed[0] + " or " +
+             allowed[1] + ")");
+  }
+  const std::size_t comma = uri.find(',');
   const std::size_t length = uri.size() - comma - 1;
   std::size_t padding = 0;
-  while (padding < length && uri[uri.size() - 1 - padding] == '=') ++padding;
+  while (padding < length && padding < 2 && uri[uri.size() - 1 - padding] == '=') ++padding;
   const std::size_t decoded = base64_decoded_size(length - padding);
   if (decoded > gltf_limits::kMaxDataUriBytes) {
     fail(file, element,
@@ -195,75 +146,42 @@ void check_data_uri(const std::string& uri, const nlohmann::json& object, bool i
                std::to_string(declared));
     }
   }
+  // tinygltf's decoded copy; the base64 text is the file's own bytes.
+  charge(decoded, 1, element);
+  return type;
 }
 
-bool has_uri_scheme(const std::string& uri) {
-  // RFC 3986: scheme = ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":"
-  if (uri.empty() || !std::isalpha(uint8_t(uri[0]))) return false;
-  for (std::size_t i = 1; i < uri.size(); ++i) {
-    const char c = uri[i];
-    if (c == ':') return i > 1;  // one letter could be a Windows drive, refused anyway as absolute
-    if (!std::isalnum(uint8_t(c)) && c != '+' && c != '-' && c != '.') return false;
-  }
-  return false;
-}
-
-// Every buffer and image URI: data URIs sized, files inside the asset's folder (unless the
-// caller allows otherwise) and present. tinygltf would silently read any path it is given and
-// report a missing file without saying which buffer or image wanted it.
-void check_uris(const nlohmann::json& root, const std::filesystem::path& base,
-                const std::string& file, const LoadOptions& options) {
-  std::error_code ec;
-  const std::filesystem::path folder = std::filesystem::weakly_canonical(base, ec);
-  if (ec) fail(file, "file", "cannot resolve the asset's folder: " + ec.message());
+// Every buffer and image URI: data URIs typed and sized, files admitted by the FileGate
+// (inside the asset's folder unless the caller allows otherwise, present, regular) and
+// replaced in `root` by the gate's tokens. Returns each image's declared media type.
+std::vector<std::string> check_uris(nlohmann::json& root, FileGate& gate, const std::string& file) {
+  std::vector<std::string> declared;
   for (const char* array : {"buffers", "images"}) {
     auto it = root.find(array);
     if (it == root.end()) continue;
+    const bool is_buffer = std::string(array) == "buffers";
     for (std::size_t i = 0; i < it->size(); ++i) {
-      const nlohmann::json& object = (*it)[i];
-      auto uri = object.find("uri");
-      if (uri == object.end()) continue;
-      const std::string element = indexed(array, i) + ".uri";
-      const std::string text = uri->get<std::string>();
-      if (text.rfind("data:", 0) == 0) {
-        check_data_uri(text, object, std::string(array) == "buffers", element, file);
-        continue;
-      }
-      const std::string decoded = url_decode(text);
-      const std::filesystem::path relative(decoded);
-      if (has_uri_scheme(text) || relative.is_absolute()) {
-        fail(
-            file, element,
-            "\"" + text + "\" is " + (has_uri_scheme(text) ? "not a relative path" : "absolute") +
-                (options.allow_external_paths
-                     ? "; only paths relative to the asset are resolved"
-                     : "; only files in the asset's folder are read (see --allow-external-paths)"));
-      }
-      if (decoded.find('\0') != std::string::npos) fail(file, element, "contains a NUL character");
-      const std::filesystem::path target = base / relative;
-      if (!options.allow_external_paths) {
-        // Canonical paths, so that "a/../../x" and symlinks pointing out are caught as well.
-        const std::filesystem::path resolved = std::filesystem::weakly_canonical(target, ec);
-        const std::filesystem::path inside =
-            ec ? std::filesystem::path("..") : resolved.lexically_relative(folder);
-        if (inside.empty() || *inside.begin() == "..") {
-          fail(file, element,
-               "\"" + text + "\" points outside the asset's folder (see --allow-external-paths)");
+      nlohmann::json& object = (*it)[i];
+      std::string type = is_buffer ? "" : object.value("mimeType", std::string());
+      if (auto uri = object.find("uri"); uri != object.end()) {
+        const std::string element = indexed(array, i) + ".uri";
+        const std::string text = uri->get<std::string>();
+        if (text.rfind("data:", 0) == 0) {
+          const std::string data_type = check_data_uri(text, object, is_buffer, element, file);
+          if (!is_buffer && type.empty()) type = data_type;
+        } else {
+          const std::optional<std::size_t> exact =
+              is_buffer ? std::optional<std::size_t>(object["byteLength"].get<std::size_t>())
+                        : std::nullopt;
+          *uri = gate.admit(text, element, exact,
+                            is_buffer ? std::numeric_limits<unsigned int>::max() - 1
+                                      : gltf_limits::kMaxImageFileBytes);
         }
       }
-      if (!std::filesystem::is_regular_file(target, ec)) {
-        fail(file, element, "file \"" + text + "\" not found");
-      }
-      if (std::string(array) == "images") {
-        const auto size = std::filesystem::file_size(target, ec);
-        if (!ec && size > gltf_limits::kMaxImageFileBytes) {
-          fail(file, element,
-               "image file of " + std::to_string(size) + " bytes exceeds the limit of " +
-                   std::to_string(gltf_limits::kMaxImageFileBytes));
-        }
-      }
+      if (!is_buffer) declared.push_back(type);
     }
   }
+  return declared;
 }
 
 // tinygltf keeps every object of the file in memory, a few hundred bytes each.
@@ -291,7 +209,7 @@ const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& extensions, 
   return &it->second;
 }
 
-class Converter {
+class Converter final : public MaterialExtensionReader {
  public:
   Converter(const tinygltf::Model& model, const std::string& file, const std::string& scene,
             SceneDescription& out)
@@ -306,12 +224,34 @@ class Converter {
   }
 
  private:
-  void warn(const std::string& element, const std::string& what) {
-    out_.warnings.push_back(one_line(file_ + ": " + element + ": " + what));
+  void warn(const std::string& element, const std::string& what) override {
+    out_.warnings.push_back(warning(element, what));
   }
 
-  [[noreturn]] void error(const std::string& element, const std::string& what) const {
+  [[noreturn]] void error(const std::string& element, const std::string& what) const override {
     fail(file_, element, what);
+  }
+
+  // MaterialExtensionReader, for the extension handlers of gltf_extensions.h.
+  double number(const tinygltf::Value& ext, const char* key, double fallback,
+                const std::string& element) const override {
+    return extension_number(ext, key, fallback, element);
+  }
+  float unit(double value, const std::string& element) const override {
+    return unit_factor(value, element);
+  }
+  int texture(const tinygltf::TextureInfo& info, TextureEncoding encoding,
+              const std::string& element, TextureMapping* mapping) override {
+    return texture<tinygltf::TextureInfo>(info, encoding, element, mapping);
+  }
+  const std::string& file() const override { return file_; }
+
+  // A name from the file as the scene description carries it to terminals, reports and EXR
+  // metadata: control characters escaped, at most 256 bytes; the element when it has none.
+  static std::string display_name(const std::string& name, const std::string& element) {
+    if (name.empty()) return element;
+    const std::string escaped = printable(name.substr(0, 256));
+    return name.size() > 256 ? escaped + "..." : escaped;
   }
 
   void check_index(int index, std::size_t size, const std::string& element,
@@ -326,7 +266,7 @@ class Converter {
 
   float unit_factor(double value, const std::string& element) const {
     if (!std::isfinite(value) || value < 0.0 || value > 1.0) {
-      error(element, "value " + std::to_string(value) + " is outside [0, 1]");
+      error(element, "value " + number_text(value) + " is outside [0, 1]");
     }
     return static_cast<float>(value);
   }
@@ -363,7 +303,7 @@ class Converter {
     const std::string pbr_element = element + ".pbrMetallicRoughness";
     const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
     MaterialDescription d;
-    d.name = m.name.empty() ? element : m.name;
+    d.name = display_name(m.name, element);
     if (pbr.baseColorFactor.size() != 4) error(pbr_element + ".baseColorFactor", "expected 4");
     d.base_colour = colour(pbr.baseColorFactor, pbr_element + ".baseColorFactor");
     d.alpha = unit_factor(pbr.baseColorFactor[3], pbr_element + ".baseColorFactor[3]");
@@ -378,14 +318,13 @@ class Converter {
                                element + ".normalTexture", &d.normal_mapping);
     if (!std::isfinite(m.normalTexture.scale))
       error(element + ".normalTexture.scale", "expected a finite number");
+    if (!finite_float(m.normalTexture.scale))
+      error(element + ".normalTexture.scale", "not finite as a float");
     d.normal_scale = static_cast<float>(m.normalTexture.scale);
     d.occlusion_texture = texture(m.occlusionTexture, TextureEncoding::linear_data,
                                   element + ".occlusionTexture", &d.occlusion_mapping);
     d.occlusion_strength =
         unit_factor(m.occlusionTexture.strength, element + ".occlusionTexture.strength");
-    if (const auto* sg = find_extension(m.extensions, "KHR_materials_pbrSpecularGlossiness")) {
-      specular_glossiness(*sg, element + ".extensions.KHR_materials_pbrSpecularGlossiness", d);
-    }
     if (!m.emissiveFactor.empty()) {
       d.emissive = colour(m.emissiveFactor, element + ".emissiveFactor");
     }
@@ -398,68 +337,12 @@ class Converter {
       error(element + ".alphaCutoff", "expected a finite number >= 0");
     d.alpha_cutoff = static_cast<float>(m.alphaCutoff);
 
-    const std::string ext_element = element + ".extensions.";
-    if (const auto* ext = find_extension(m.extensions, "KHR_materials_emissive_strength")) {
-      const std::string e = ext_element + "KHR_materials_emissive_strength";
-      const double strength = extension_number(*ext, "emissiveStrength", 1.0, e);
-      if (strength < 0.0) error(e + ".emissiveStrength", "must not be negative");
-      d.emissive *= static_cast<float>(strength);
-    }
-    if (const auto* ext = find_extension(m.extensions, "KHR_materials_transmission")) {
-      const std::string e = ext_element + "KHR_materials_transmission";
-      d.transmission = unit_factor(extension_number(*ext, "transmissionFactor", 0.0, e),
-                                   e + ".transmissionFactor");
-      if (ext->Has("transmissionTexture")) {
-        warn(e + ".transmissionTexture", "not supported; transmissionFactor is used alone");
-      }
-    }
-    if (const auto* ext = find_extension(m.extensions, "KHR_materials_ior")) {
-      const std::string e = ext_element + "KHR_materials_ior";
-      const double ior = extension_number(*ext, "ior", 1.5, e);
-      if (ior < 1.0) error(e + ".ior", "index of refraction " + std::to_string(ior) + " is < 1");
-      d.ior = static_cast<float>(ior);
-    }
-    if (const auto* ext = find_extension(m.extensions, "KHR_materials_specular")) {
-      const std::string e = ext_element + "KHR_materials_specular";
-      d.specular =
-          unit_factor(extension_number(*ext, "specularFactor", 1.0, e), e + ".specularFactor");
-      if (ext->Has("specularColorFactor")) {
-        const tinygltf::Value& v = ext->Get("specularColorFactor");
-        if (!v.IsArray() || v.ArrayLen() != 3)
-          error(e + ".specularColorFactor", "expected 3 numbers");
-        for (int i = 0; i < 3; ++i) {
-          const tinygltf::Value& c = v.Get(i);
-          // The extension allows colours above 1 (F0 is clamped to 1 after the product).
-          if (!c.IsNumber() || !std::isfinite(c.GetNumberAsDouble()) || c.GetNumberAsDouble() < 0.0)
-            error(indexed(e + ".specularColorFactor", i), "expected a finite number >= 0");
-          d.specular_colour[i] = static_cast<float>(c.GetNumberAsDouble());
-        }
-      }
-      for (const char* slot : {"specularTexture", "specularColorTexture"}) {
-        if (ext->Has(slot)) warn(e + "." + slot, "not supported yet; the factors are used alone");
-      }
+    for (const ExtensionHandler& h : extension_handlers()) {
+      if (!h.material) continue;
+      if (const tinygltf::Value* ext = find_extension(m.extensions, h.name))
+        h.material(*this, *ext, element + ".extensions." + h.name, d);
     }
     return d;
-  }
-
-  // Replaces the metallic-roughness values by the converted specular-glossiness ones
-  // (gltf_specular_glossiness.h; docs/gltf.md says what the textures lose).
-  void specular_glossiness(const tinygltf::Value& ext, const std::string& e,
-                           MaterialDescription& d) {
-    const SpecularGlossiness sg = read_specular_glossiness(ext, e, file_);
-    const MetallicRoughness mr = to_metallic_roughness(sg.diffuse, sg.specular, sg.glossiness);
-    d.base_colour = mr.base_colour;
-    d.alpha = sg.alpha;
-    d.metallic = mr.metallic;
-    d.roughness = mr.roughness;
-    d.base_colour_mapping = TextureMapping();
-    d.base_colour_texture = texture(sg.diffuse_texture, TextureEncoding::srgb,
-                                    e + ".diffuseTexture", &d.base_colour_mapping);
-    d.metallic_roughness_texture = -1;
-    if (sg.specular_glossiness_texture.index >= 0) {
-      warn(e + ".specularGlossinessTexture",
-           "not converted; the specular and glossiness factors are used alone");
-    }
   }
 
   TextureWrap wrap(int mode, const std::string& element) const {
@@ -578,10 +461,10 @@ class Converter {
     if (auto it = texture_map_.find(key); it != texture_map_.end()) return it->second;
     TextureImage image;
     const tinygltf::Image& source = model_.images[std::size_t(t.source)];
-    image.name = !source.name.empty() ? source.name
-                 : !source.uri.empty() && source.uri.size() < 256
-                     ? source.uri
-                     : indexed("images", std::size_t(t.source));
+    image.name = display_name(!source.name.empty()                             ? source.name
+                              : !source.uri.empty() && source.uri.size() < 256 ? source.uri
+                                                                               : std::string(),
+                              indexed("images", std::size_t(t.source)));
     image.image = t.source;
     image.encoding = encoding;
     sampler(t.sampler, texture_element, image);
@@ -603,7 +486,7 @@ class Converter {
       t.width = d.width;
       t.height = d.height;
       t.channels = d.channels;
-      t.texels = d.texels;
+      t.shared_texels = d.texels;
     }
   }
 
@@ -657,7 +540,7 @@ class Converter {
     const tinygltf::Mesh& m = model_.meshes[index];
     const std::string element = indexed("meshes", index);
     Mesh out;
-    out.name = m.name.empty() ? element : m.name;
+    out.name = display_name(m.name, element);
     for (std::size_t p = 0; p < m.primitives.size(); ++p) {
       Primitive primitive;
       const std::string primitive_element = indexed(element + ".primitives", p);
@@ -759,6 +642,7 @@ class Converter {
         }
       }
     } else {
+      charge(vertices, sizeof(uint32_t), element + ".indices");
       indices.resize(vertices);
       for (std::size_t i = 0; i < vertices; ++i) indices[i] = static_cast<uint32_t>(i);
     }
@@ -771,6 +655,7 @@ class Converter {
       }
       out.indices = std::move(indices);
     } else if (n >= 3) {
+      charge(3 * (n - 2), sizeof(uint32_t), element + ".indices");
       out.indices.reserve(3 * (n - 2));
       for (std::size_t i = 0; i + 2 < n; ++i) {
         if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
@@ -791,7 +676,8 @@ class Converter {
   }
 
   // A normal-mapped primitive without TANGENT gets MikkTSpace-style tangents from the UVs
-  // its normal map reads (renderer/geometry/tangents.h); without those UVs the map cannot be placed.
+  // its normal map reads (renderer/geometry/tangents.h); without those UVs the map cannot be
+  // placed.
   void generate_missing_tangents(Primitive& p, const std::string& element) {
     if (!p.tangents.empty() || p.material < 0) return;
     const MaterialDescription& m = out_.materials.at(std::size_t(p.material));
@@ -939,7 +825,7 @@ class Converter {
       parent_of[index] = item.parent;
       const tinygltf::Node& node = model_.nodes[index];
       const M44d world = local_matrix(node, element) * item.parent_world;
-      if (!is_finite(world)) error(element, "world transform is not finite");
+      check_world(world, node, element);
       visit(node, index, world);
       for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) {
         stack.push_back({*it, item.node, world});
@@ -947,14 +833,54 @@ class Converter {
     }
   }
 
+  // The world transform as the renderer uses it, in float: an entry past float's range (a
+  // scale of 1e39) would turn every vertex infinite, and a scale that flattens the node (a
+  // determinant that is 0 in float) leaves its mesh nothing to render.
+  void check_world(const M44d& world, const tinygltf::Node& node, const std::string& element) {
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        if (!finite_float(world[i][j])) {
+          error(element, "world transform is not finite as a float (entry " +
+                             number_text(world[i][j]) + ")");
+        }
+    const double det = world[0][0] * (world[1][1] * world[2][2] - world[1][2] * world[2][1]) -
+                       world[0][1] * (world[1][0] * world[2][2] - world[1][2] * world[2][0]) +
+                       world[0][2] * (world[1][0] * world[2][1] - world[1][1] * world[2][0]);
+    if (node.mesh >= 0 && node.skin < 0 && static_cast<float>(std::fabs(det)) == 0.0f) {
+      warn(element,
+           "the world transform's scale flattens the node's mesh to nothing "
+           "(determinant " +
+               number_text(det) + "); it renders nothing");
+    }
+  }
+
+  // Every vertex of mesh `m` placed by `world` must stay finite in float.
+  void check_placed_mesh(int m, const M44d& world, const std::string& element) {
+    auto [it, added] = mesh_bounds_.try_emplace(m);
+    if (added) {
+      for (const Primitive& p : out_.meshes[std::size_t(m)].primitives)
+        for (const V3f& v : p.positions) it->second.extendBy(V3d(v));
+    }
+    const Imath::Box3d& box = it->second;
+    for (int corner = 0; corner < 8; ++corner) {
+      const V3d c((corner & 1) ? box.max.x : box.min.x, (corner & 2) ? box.max.y : box.min.y,
+                  (corner & 4) ? box.max.z : box.min.z);
+      const V3d w = c * world;
+      if (!finite_float(w.x) || !finite_float(w.y) || !finite_float(w.z)) {
+        error(element, "the world transform places mesh vertices beyond float's range");
+      }
+    }
+  }
+
   void visit(const tinygltf::Node& node, std::size_t index, const M44d& world) {
     const std::string element = indexed("nodes", index);
-    const std::string name = node.name.empty() ? element : node.name;
+    const std::string name = display_name(node.name, element);
     const tinygltf::Value* sphere_ext = find_extension(node.extensions, "PRISM_sphere");
     if (sphere_ext) {
       sphere(*sphere_ext, node, element, name, world);
     } else if (node.mesh >= 0) {
       if (const int m = mesh(node, element); m >= 0) {
+        check_placed_mesh(m, node.skin >= 0 ? M44d() : world, element);
         // glTF: a skinned mesh is placed by its joints alone; the node's own transform is
         // ignored (the skin's matrices already put its vertices in world space).
         out_.instances.push_back({m, node.skin >= 0 ? M44d() : world, name});
@@ -1029,7 +955,7 @@ class Converter {
     const tinygltf::Camera& c = model_.cameras[std::size_t(index)];
     const std::string element = indexed("cameras", std::size_t(index));
     CameraDescription d;
-    d.name = c.name.empty() ? element : c.name;
+    d.name = display_name(c.name, element);
     d.camera_to_world = world;
     if (c.type == "perspective") {
       const std::string e = element + ".perspective";
@@ -1054,7 +980,7 @@ class Converter {
       if (!(d.ymag > 0.0) || !std::isfinite(d.ymag)) error(e + ".ymag", "must be > 0");
       if (!(d.znear >= 0.0) || !std::isfinite(d.znear)) error(e + ".znear", "must be >= 0");
     } else {
-      error(element + ".type", "unknown camera type \"" + c.type + "\"");
+      error(element + ".type", "unknown camera type " + shown(c.type));
     }
     out_.cameras.push_back(d);
   }
@@ -1065,7 +991,7 @@ class Converter {
     const std::string element =
         indexed("extensions.KHR_lights_punctual.lights", std::size_t(index));
     Light d;
-    d.name = l.name.empty() ? element : l.name;
+    d.name = display_name(l.name, element);
     if (l.type == "directional") {
       d.type = LightType::directional;
     } else if (l.type == "point") {
@@ -1073,18 +999,22 @@ class Converter {
     } else if (l.type == "spot") {
       d.type = LightType::spot;
     } else {
-      error(element + ".type", "unknown light type \"" + l.type + "\"");
+      error(element + ".type", "unknown light type " + shown(l.type));
     }
     if (!l.color.empty()) {
       if (l.color.size() != 3) error(element + ".color", "expected 3 numbers");
       for (int i = 0; i < 3; ++i) {
         const double c = l.color[std::size_t(i)];
-        if (!std::isfinite(c) || c < 0.0) error(indexed(element + ".color", i), "must be >= 0");
+        if (!finite_float(c) || c < 0.0)
+          error(indexed(element + ".color", i), "must be >= 0 and finite as a float");
         d.colour[i] = static_cast<float>(c);
       }
     }
-    if (!std::isfinite(l.intensity) || l.intensity < 0.0) {
-      error(element + ".intensity", "must be finite and >= 0");
+    // The renderer multiplies colour and intensity in float.
+    if (!finite_float(l.intensity) || l.intensity < 0.0 ||
+        !is_finite(d.colour * static_cast<float>(l.intensity))) {
+      error(element + ".intensity", "must be >= 0, and finite as a float times the colour, got " +
+                                        number_text(l.intensity));
     }
     d.intensity = static_cast<float>(l.intensity);
     if (!std::isfinite(l.range) || l.range < 0.0) error(element + ".range", "must be > 0");
@@ -1118,6 +1048,7 @@ class Converter {
   const std::string& scene_;  // --scene: a name or index, empty = the file's default
   std::map<std::tuple<int, int, std::vector<double>>, int> mesh_map_;
   std::map<int, std::vector<M44d>> joint_matrices_;                   // per skin
+  std::map<int, Imath::Box3d> mesh_bounds_;                           // per out_.meshes index
   std::vector<int> parent_;                                           // per node, -1 for roots
   std::map<std::tuple<int, int, TextureEncoding>, int> texture_map_;  // (image, sampler, encoding)
 };
@@ -1127,38 +1058,56 @@ SceneDescription load(const std::string& path, const LoadOptions& options) {
   scene.source_path = path;
   std::vector<unsigned char> bytes = read_file(path);
   const bool binary = is_glb(bytes);
-  std::string json_text = binary ? glb_json(bytes, path) : std::string(bytes.begin(), bytes.end());
-  const nlohmann::json root = parse_json(json_text, path);
+  GlbChunks glb;
+  if (binary) glb = parse_glb(bytes, path);
+  std::string json_text =
+      binary ? std::string(reinterpret_cast<const char*>(bytes.data() + glb.json_offset),
+                           glb.json_length)
+             : std::string(bytes.begin(), bytes.end());
+  nlohmann::json root = parse_json(json_text, path);
   check_object_count(root, path);
   check_gltf_json(root, path, scene.warnings);
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
-  check_uris(root, base.empty() ? std::filesystem::path(".") : base, path, options);
-  if (const auto patched = draco_json_for_tinygltf(root)) {
-    json_text = patched->dump();
-    if (binary) bytes = with_glb_json(bytes, json_text, path);
+  FileGate gate(base.empty() ? std::filesystem::path(".") : base, options.allow_external_paths,
+                path);
+  ImageGuard image_guard;
+  image_guard.declared_type = check_uris(root, gate, path);
+  bool rewritten = gate.admitted() > 0;
+  if (auto patched = draco_json_for_tinygltf(root)) {
+    root = std::move(*patched);
+    rewritten = true;
+  }
+  if (rewritten) json_text = root.dump();
+  if (binary && (rewritten || glb.has_other_chunks)) {
+    bytes = make_glb(json_text, glb.has_bin ? bytes.data() + glb.bin_offset : nullptr,
+                     glb.bin_length, path);
   }
 
   tinygltf::TinyGLTF loader;
   loader.SetPreserveImageChannels(true);
-  ImageGuard image_guard;
   loader.SetImageLoader(check_image_header, &image_guard);
+  loader.SetFsCallbacks(gate.callbacks());
   tinygltf::Model model;
   std::string err;
   std::string warn;
-  const std::string base_dir = base.string();
   bool ok = false;
+  // No base directory: tinygltf only sees the gate's tokens, which its callbacks resolve.
   if (binary) {
     ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
-                                     static_cast<unsigned int>(bytes.size()), base_dir);
+                                     static_cast<unsigned int>(bytes.size()), "");
   } else {
     ok = loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(),
-                                    static_cast<unsigned int>(json_text.size()), base_dir);
+                                    static_cast<unsigned int>(json_text.size()), "");
   }
+  if (!gate.failed_element().empty()) throw LoadError(gate.failure());
   if (!image_guard.element.empty()) fail(path, image_guard.element, image_guard.what);
   // tinygltf also reports some problems (such as a missing required property) in `err` while
   // returning true; the model is then incomplete, so both count as failure.
   if (!ok || !err.empty()) fail(path, "glTF", err.empty() ? "tinygltf failed to load" : err);
-  if (!warn.empty()) scene.warnings.push_back(one_line(path + ": glTF: " + warn));
+  if (!warn.empty()) scene.warnings.push_back(warning("glTF", warn));
+  // The file's own URIs again, for texture names and messages.
+  for (tinygltf::Buffer& b : model.buffers) b.uri = gate.original_uri(b.uri);
+  for (tinygltf::Image& i : model.images) i.uri = gate.original_uri(i.uri);
 
   // Both rewrite the model onto plain accessors, so the conversion below reads them as usual.
   decode_draco_primitives(model, path);
@@ -1175,13 +1124,20 @@ SceneDescription load_gltf(const std::string& path) {
 }
 
 SceneDescription load_gltf(const std::string& path, const LoadOptions& options) {
+  MemoryBudget budget(options.memory_limit, path);
   try {
+    const BudgetScope budget_scope(budget);
     return load(path, options);
   } catch (const LoadError&) {
     throw;
+  } catch (const std::bad_alloc&) {
+    // The budget allowed more than the machine could give.
+    fail(path, budget.last_element().empty() ? "file" : budget.last_element(),
+         "out of memory (std::bad_alloc) with " + byte_size(budget.used()) +
+             " charged to the load; lower --memory-limit to be refused sooner");
   } catch (const std::exception& e) {
-    // tinygltf and nlohmann throw on some malformed input (and std::bad_alloc is possible on
-    // absurd sizes); the caller only needs to know the file could not be loaded.
+    // tinygltf and nlohmann throw on some malformed input; the caller only needs to know the
+    // file could not be loaded.
     throw LoadError(one_line(path + ": glTF: " + e.what()));
   } catch (...) {
     throw LoadError(one_line(path + ": glTF: unknown error while loading"));

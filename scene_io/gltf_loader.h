@@ -3,6 +3,7 @@
 // be rendered as its author meant raises LoadError, never a crash or a silently wrong scene.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -35,6 +36,10 @@ struct LoadOptions {
   // The scene to load: a scene's name, or its index in decimal. Empty: the file's `scene`, else
   // scenes[0] (else, for a file without scenes, every root node).
   std::string scene;
+  // Bytes the load may allocate for the file, all of its geometry, texels, buffers and copies
+  // together (8 GiB by default, for a 24 GiB machine); a file needing more is refused with a
+  // LoadError naming the element whose allocation crossed it.
+  std::size_t memory_limit = std::size_t{8} << 30;
 };
 
 SceneDescription load_gltf(const std::string& path, const LoadOptions& options);

@@ -5,6 +5,7 @@
 
 #include "renderer/math.h"
 #include "scene_io/gltf_accessors.h"
+#include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 
 namespace prism::gltf_detail {
@@ -27,6 +28,7 @@ void apply_morph_targets(const tinygltf::Model& model, const tinygltf::Primitive
                          const std::string& file, Primitive& out) {
   const std::size_t vertices = out.positions.size();
   // Summed in double: many small targets must not lose what float would round away.
+  charge(vertices, 3 * sizeof(V3d), element + ".targets");
   std::vector<V3d> positions(out.positions.begin(), out.positions.end());
   std::vector<V3d> normals(out.normals.begin(), out.normals.end());
   std::vector<V3d> tangents;
@@ -90,6 +92,7 @@ void apply_skin(const tinygltf::Model& model, const tinygltf::Primitive& in,
                 const std::vector<M44d>& joints, const std::string& element,
                 const std::string& file, Primitive& out, std::vector<std::string>& warnings) {
   const std::size_t vertices = out.positions.size();
+  charge(vertices, sizeof(M44d) + sizeof(double), element + ".attributes.JOINTS_0");
   std::vector<M44d> blended(vertices, M44d(0.0));
   std::vector<double> total(vertices, 0.0);
   int sets = 0;
@@ -175,9 +178,9 @@ void apply_skin(const tinygltf::Model& model, const tinygltf::Primitive& in,
     }
   }
   if (unweighted > 0) {
-    warnings.push_back(one_line(file + ": " + element + ": " + std::to_string(unweighted) +
-                                " vertices have no joint weight; they stay where the skin's "
-                                "space puts them unskinned"));
+    warnings.push_back(warning(element, std::to_string(unweighted) +
+                                            " vertices have no joint weight; they stay where the "
+                                            "skin's space puts them unskinned"));
   }
 }
 
@@ -217,6 +220,7 @@ std::vector<M44d> joint_matrices(const tinygltf::Model& model, int skin,
   const tinygltf::Skin& s = model.skins[static_cast<std::size_t>(skin)];
   const std::string element = indexed("skins", static_cast<std::size_t>(skin));
   if (s.joints.empty()) fail(file, element + ".joints", "a skin needs at least one joint");
+  charge(s.joints.size(), 2 * sizeof(M44d), element + ".joints");
   std::vector<M44d> inverse_bind(s.joints.size(), M44d());
   if (s.inverseBindMatrices >= 0) {
     const AccessorView view =

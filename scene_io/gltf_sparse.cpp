@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "scene_io/gltf_accessors.h"
+#include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 #include "scene_io/gltf_limits.h"
 
@@ -103,6 +104,7 @@ void densify(tinygltf::Model& model, std::size_t index, const std::string& file)
       checked_range(model, sparse.values.bufferView, std::size_t(sparse.values.byteOffset),
                     count * element_size, sparse_element + ".values", file);
 
+  charge(base.count, element_size, element);
   std::vector<unsigned char> dense(base.count * element_size, 0);
   if (base.data) {
     for (std::size_t i = 0; i < base.count; ++i) {

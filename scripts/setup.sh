@@ -29,6 +29,9 @@ PACKAGES=(
   # tests/cli/fuzz_smoke.sh builds the libFuzzer target over the glTF loader with clang's
   # -fsanitize=fuzzer,address,undefined (fuzz/build.sh); libFuzzer's runtime is in clang-rt
   clang libclang-rt-14-dev
+  # tests/cli/hostile_confinement.sh checks with strace that a hostile file opens nothing
+  # outside its folder
+  strace
   "$@"
 )
 

@@ -51,7 +51,10 @@ struct SceneRequest {
 
 struct SessionOptions {
   int threads = 0;  // worker threads for every build and render; 0 = every core
-  // The most a render's film and sample buffers may take, checked before they are made.
+  // One budget for what a hostile file or an absurd option can make Prism allocate: the
+  // loader charges geometry, texels and copies to it (LoadOptions::memory_limit), and a
+  // render's film and sample buffers are estimated and checked against it before they are
+  // made.
   uint64_t memory_budget_bytes = uint64_t{8} << 30;
 };
 

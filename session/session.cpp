@@ -89,6 +89,7 @@ Session::Session(const SceneRequest& request, const SessionOptions& options)
   LoadOptions load;
   load.allow_external_paths = request.allow_external_paths;
   load.scene = request.scene;
+  load.memory_limit = static_cast<std::size_t>(options.memory_budget_bytes);
   arena_.execute([&] {
     try {
       scene_ = load_gltf(request.path, load);

@@ -112,13 +112,13 @@ TEST(GltfLoaderSamples, BoxTexturedIsTheSameInAllThreeForms) {
     EXPECT_EQ(t.width, 211);
     EXPECT_EQ(t.height, 211);
     EXPECT_EQ(t.channels, 3);
-    EXPECT_EQ(t.texels.size(), 211u * 211u * 3u);
+    EXPECT_EQ(t.pixels().size(), 211u * 211u * 3u);
     EXPECT_EQ(t.encoding, TextureEncoding::srgb);
     // Only the plain .gltf variant's sampler differs from glTF's default REPEAT.
     const bool plain = path == paths[0];
     EXPECT_EQ(t.wrap_s, plain ? TextureWrap::mirrored_repeat : TextureWrap::repeat);
     EXPECT_EQ(t.wrap_t, plain ? TextureWrap::clamp_to_edge : TextureWrap::repeat);
-    for (float v : t.texels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
+    for (float v : t.pixels()) ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
     scenes.push_back(std::move(s));
   }
   for (std::size_t i = 1; i < scenes.size(); ++i) {
@@ -126,7 +126,7 @@ TEST(GltfLoaderSamples, BoxTexturedIsTheSameInAllThreeForms) {
               scenes[0].meshes[0].primitives[0].positions);
     EXPECT_EQ(scenes[i].meshes[0].primitives[0].indices, scenes[0].meshes[0].primitives[0].indices);
     EXPECT_EQ(scenes[i].meshes[0].primitives[0].uv0, scenes[0].meshes[0].primitives[0].uv0);
-    EXPECT_EQ(scenes[i].textures[0].texels, scenes[0].textures[0].texels);
+    EXPECT_EQ(scenes[i].textures[0].pixels(), scenes[0].textures[0].pixels());
   }
 }
 
@@ -481,7 +481,7 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_FLOAT_EQ(d.specular, 1.0f);
   EXPECT_EQ(d.specular_colour, C3f(1.0f, 1.0f, 1.0f));
   EXPECT_EQ(s.meshes.at(0).primitives.at(0).material, 0);
-  EXPECT_TRUE(has_warning(s, "extensionsUsed: extension KHR_materials_sheen"));
+  EXPECT_TRUE(has_warning(s, "extensionsUsed: extension \"KHR_materials_sheen\""));
 }
 
 TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
@@ -513,7 +513,7 @@ TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
   EXPECT_EQ(s.textures.at(std::size_t(m.base_colour_texture)).encoding, TextureEncoding::srgb);
   EXPECT_EQ(s.textures.at(std::size_t(m.metallic_roughness_texture)).encoding,
             TextureEncoding::linear_data);
-  EXPECT_EQ(s.textures[0].texels, s.textures[1].texels);
+  EXPECT_EQ(s.textures[0].pixels(), s.textures[1].pixels());
   EXPECT_EQ(s.textures[0].wrap_s, TextureWrap::clamp_to_edge);
   EXPECT_EQ(s.textures[0].wrap_t, TextureWrap::repeat);
   const Primitive& p = s.meshes.at(0).primitives.at(0);
@@ -588,14 +588,14 @@ TEST(GltfLoaderHandMade, ValidationErrorsNameTheElement) {
        "nodes[2]: node has more than one parent"},
       {"required.gltf",
        [](Builder& b) { b.doc["extensionsRequired"] = {"EXT_meshopt_compression"}; },
-       "extensionsRequired: extension EXT_meshopt_compression"},
+       "extensionsRequired: extension \"EXT_meshopt_compression\""},
       {"malformed.gltf", [](Builder& b) { b.doc["asset"] = "x"; }, "asset: expected an object"},
       {"nan_in_matrix.gltf",
        [](Builder& b) {
          b.node({{"scale", {1e300, 1, 1}}, {"children", {1}}});
          b.node({{"scale", {1e300, 1, 1}}}, false);
        },
-       "nodes[1]: world transform is not finite"},
+       "nodes[0]: world transform is not finite as a float"},
       {"metallic_range.gltf",
        [](Builder& b) {
          b.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"metallicFactor", 2}}}}});
@@ -646,7 +646,7 @@ TEST(GltfLoaderHandMade, NoScenesRendersAllRootNodesWithAWarning) {
   ASSERT_EQ(s.instances.size(), 3u);
   EXPECT_EQ(s.instances[1].node_name, "nodes[1]");
   EXPECT_DOUBLE_EQ(s.instances[2].object_to_world[3][2], 2.0);
-  EXPECT_TRUE(has_warning(s, "no_scenes.gltf: scenes: the file has no scenes"));
+  EXPECT_TRUE(has_warning(s, "scenes: the file has no scenes"));
 }
 
 TEST(GltfLoaderHandMade, SharedCameraGivesOneDescriptionPerNodeInTraversalOrder) {

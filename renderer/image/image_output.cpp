@@ -1,7 +1,14 @@
 #include "renderer/image/image_output.h"
 
 #include <OpenImageIO/imageio.h>
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <iterator>
 
 #include <algorithm>
 #include <atomic>
@@ -44,9 +51,93 @@ void check_image(const std::string& path, const Image& image) {
   }
 }
 
+// Temporary files being written, for the signal handler: fixed storage, because a handler
+// may only call async-signal-safe functions (no allocation, no locks); unlink(2) is one.
+constexpr int kTempSlots = 8;
+char g_temp_paths[kTempSlots][PATH_MAX];
+std::atomic<bool> g_temp_in_use[kTempSlots];
+constexpr int kCleanupSignals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+struct sigaction g_previous[std::size(kCleanupSignals)];
+
+extern "C" void remove_temp_files_and_reraise(int sig) {
+  const int saved_errno = errno;
+  for (int i = 0; i < kTempSlots; ++i)
+    if (g_temp_in_use[i].load()) ::unlink(g_temp_paths[i]);
+  for (std::size_t i = 0; i < std::size(kCleanupSignals); ++i) {
+    if (kCleanupSignals[i] != sig) continue;
+    const struct sigaction& previous = g_previous[i];
+    if (!(previous.sa_flags & SA_SIGINFO) && previous.sa_handler != SIG_DFL &&
+        previous.sa_handler != SIG_IGN) {
+      errno = saved_errno;
+      previous.sa_handler(sig);  // the program's own handler decides what happens next
+      return;
+    }
+  }
+  // The default action (termination), as if the handler had never been installed.
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+  errno = saved_errno;
+}
+
+// Installed once, on the first write; signals the process ignores stay ignored.
+void install_signal_cleanup() {
+  static const bool installed = [] {
+    for (std::size_t i = 0; i < std::size(kCleanupSignals); ++i) {
+      struct sigaction action {};
+      action.sa_handler = remove_temp_files_and_reraise;
+      sigemptyset(&action.sa_mask);
+      if (::sigaction(kCleanupSignals[i], nullptr, &g_previous[i]) != 0) continue;
+      if (!(g_previous[i].sa_flags & SA_SIGINFO) && g_previous[i].sa_handler == SIG_IGN) continue;
+      ::sigaction(kCleanupSignals[i], &action, nullptr);
+    }
+    return true;
+  }();
+  (void)installed;
+}
+
+// ".NAME.tmp-" for a target NAME: the prefix of its temporary files, with NAME cut so that a
+// temporary name (prefix, PID, counter, extension) stays within NAME_MAX when NAME itself does.
+std::string temp_prefix(const fs::path& target_path) {
+  const std::string filename = target_path.filename().string();
+  constexpr std::size_t kSuffix = 1 + 5 + 20 + 1 + 10 + 16;  // ".", ".tmp-", pid, "-", n, ext
+  const std::size_t keep = std::min<std::size_t>(filename.size(), NAME_MAX - kSuffix);
+  // Appended piece by piece: GCC 12 reports a false -Wrestrict for "." + std::string&&.
+  std::string prefix(".");
+  prefix += filename.substr(0, keep);
+  prefix += ".tmp-";
+  return prefix;
+}
+
+// The extension kept on a temporary name, in case anything downstream infers the format from
+// it; an absurdly long one is dropped rather than cut.
+std::string temp_extension(const fs::path& target_path) {
+  const std::string ext = target_path.extension().string();
+  return ext.size() <= 16 ? ext : std::string();
+}
+
+// Removes the temporary files that processes which no longer exist left for this target (a
+// kill -9, a power cut): their names carry the writer's PID.
+void remove_stale_temp_files(const fs::path& dir, const fs::path& target_path) {
+  const std::string prefix = temp_prefix(target_path);
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const char* digits = name.c_str() + prefix.size();
+    char* after = nullptr;
+    errno = 0;
+    const long pid = std::strtol(digits, &after, 10);
+    if (errno != 0 || after == digits || *after != '-' || pid <= 0) continue;
+    if (pid == ::getpid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours
+    std::error_code remove_ec;
+    fs::remove(it->path(), remove_ec);
+  }
+}
+
 // The temporary file lives beside the target so the final rename stays on one file system
-// (and is therefore atomic). It is hidden, unique per process and call, and keeps the
-// target's extension in case anything downstream infers the format from the name.
+// (and is therefore atomic). It is hidden, unique per process and call, and removed when the
+// write fails, when a termination signal arrives, or by the next write after a crash.
 class TempFile {
  public:
   explicit TempFile(const std::string& target) {
@@ -56,14 +147,24 @@ class TempFile {
     if (dir.empty()) dir = ".";
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) fail(target, "directory '" + dir.string() + "' does not exist");
-    // Appended piece by piece: GCC 12 reports a false -Wrestrict for "." + std::string&&.
-    std::string name(".");
-    name += target_path.filename().string();
-    name += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    name += target_path.extension().string();
+    remove_stale_temp_files(dir, target_path);
+    std::string name = temp_prefix(target_path);
+    name += std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    name += temp_extension(target_path);
     path_ = (dir / name).string();
+    install_signal_cleanup();
+    if (path_.size() < PATH_MAX) {
+      for (int i = 0; i < kTempSlots && slot_ < 0; ++i) {
+        bool expected = false;
+        if (!claimed_[i].compare_exchange_strong(expected, true)) continue;
+        std::memcpy(g_temp_paths[i], path_.c_str(), path_.size() + 1);
+        g_temp_in_use[i].store(true);  // after the copy: the handler sees a whole path
+        slot_ = i;
+      }
+    }
   }
   ~TempFile() {
+    release();
     if (!committed_) {
       std::error_code ec;
       fs::remove(path_, ec);
@@ -79,10 +180,20 @@ class TempFile {
     fs::rename(path_, target, ec);
     if (ec) fail(target, "cannot move the finished file into place: " + ec.message());
     committed_ = true;
+    release();
   }
 
  private:
+  void release() {
+    if (slot_ < 0) return;
+    g_temp_in_use[slot_].store(false);
+    claimed_[slot_].store(false);
+    slot_ = -1;
+  }
+
+  static inline std::atomic<bool> claimed_[kTempSlots];
   std::string path_;
+  int slot_ = -1;
   bool committed_ = false;
 };
 

@@ -71,7 +71,7 @@ std::shared_ptr<const std::vector<Texture::Level>> Texture::build_levels(
   base.texels.resize(count);
   const int c = image.channels;
   for (size_t i = 0; i < count; ++i) {
-    const float* t = &image.texels[i * c];
+    const float* t = &image.pixels()[i * c];
     // Grey and grey-alpha images broadcast their grey value; alpha defaults to opaque.
     rgb[i * 3 + 0] = t[0];
     rgb[i * 3 + 1] = c >= 3 ? t[1] : t[0];

@@ -3,26 +3,6 @@
 # file created or clobbered. Usage: bad_input.sh PRISM SOURCE_DIR
 source "$(dirname "$0")/lib/common.bash" "$@"
 
-# expect CODE PATTERN -- ARGS...: runs prism, checks the exit code, that stderr is exactly
-# one line, and that it matches PATTERN.
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  "$PRISM" "$@" >"$TMP/out" 2>"$TMP/err"
-  local got=$?
-  local lines
-  lines=$(wc -l <"$TMP/err")
-  if [[ $got -ne $code ]]; then
-    echo "FAIL: prism $* exited $got, expected $code"; cat "$TMP/err"; failures=$((failures + 1))
-  elif [[ $lines -ne 1 ]]; then
-    echo "FAIL: prism $* printed $lines lines on stderr, expected 1"; cat "$TMP/err"; failures=$((failures + 1))
-  elif ! grep -qE -- "$pattern" "$TMP/err"; then
-    echo "FAIL: prism $*: stderr does not match '$pattern':"; cat "$TMP/err"; failures=$((failures + 1))
-  else
-    echo "ok: prism $* -> $got: $(cat "$TMP/err")"
-  fi
-}
-
 SCENE="$SRC/scenes/spheres.gltf"
 BROKEN=/usr/share/assimp/models/glTF2
 

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# A short libFuzzer run over the glTF loader (ASan + UBSan), seeded with the shipped scenes and
-# Debian's samples: builds fuzz/gltf_loader_fuzz with clang (incrementally, next to the prism
-# binary) and fails on any crash, leak or sanitizer report. The long run is in docs/fuzzing.md.
+# Short libFuzzer runs (ASan + UBSan) over the glTF loader, seeded with the shipped scenes and
+# Debian's samples, and over the image path, seeded with an image of every format OpenImageIO
+# knows: builds fuzz/gltf_loader_fuzz and fuzz/gltf_image_fuzz with clang (incrementally, next
+# to the prism binary) and fails on any crash, leak or sanitizer report. The long runs are in
+# docs/fuzzing.md.
 # Usage: fuzz_smoke.sh PRISM SOURCE_DIR
 source "$(dirname "$0")/lib/common.bash" "$@"
 
@@ -16,14 +18,20 @@ if ! bash "$SRC/fuzz/build.sh" "$OUT" >"$TMP/build.log" 2>&1; then
   exit 1
 fi
 bash "$SRC/fuzz/seed_corpus.sh" "$TMP/seeds" >/dev/null
-mkdir -p "$TMP/corpus" "$TMP/artifacts"
-# Fixed seed and run count: the same inputs every time, so a failure here reproduces.
-if ! TMPDIR="$TMP" "$OUT/gltf_loader_fuzz" -seed=1 -runs=2000 -max_len=262144 -rss_limit_mb=4096 \
-    -artifact_prefix="$TMP/artifacts/" "$TMP/corpus" "$TMP/seeds" >"$TMP/fuzz.log" 2>&1; then
-  tail -n 60 "$TMP/fuzz.log"
-  for f in "$TMP"/artifacts/*; do [[ -e $f ]] && echo "crashing input (base64): $(base64 -w0 "$f" | head -c 2000)"; done
-  fail "libFuzzer found a problem (see above)"
-fi
-grep -E "^Done|DONE" "$TMP/fuzz.log" | tail -n 1
+bash "$SRC/fuzz/seed_corpus.sh" --images "$TMP/image-seeds" >/dev/null 2>&1
+# run TARGET RUNS SEEDS: a fixed seed and run count, so that a failure here reproduces.
+run() {
+  local target=$1 runs=$2 seeds=$3
+  mkdir -p "$TMP/$target-corpus" "$TMP/$target-artifacts"
+  if ! TMPDIR="$TMP" "$OUT/$target" -seed=1 -runs="$runs" -max_len=262144 -rss_limit_mb=4096 \
+      -artifact_prefix="$TMP/$target-artifacts/" "$TMP/$target-corpus" "$seeds" >"$TMP/fuzz.log" 2>&1; then
+    tail -n 60 "$TMP/fuzz.log"
+    for f in "$TMP/$target-artifacts"/*; do [[ -e $f ]] && echo "crashing input (base64): $(base64 -w0 "$f" | head -c 2000)"; done
+    fail "libFuzzer found a problem in $target (see above)"
+  fi
+  echo "$target: $(grep -E "^Done|DONE" "$TMP/fuzz.log" | tail -n 1)"
+}
+run gltf_loader_fuzz 2000 "$TMP/seeds"
+run gltf_image_fuzz 1000 "$TMP/image-seeds"
 echo "$failures failed"
 [[ $failures -eq 0 ]]

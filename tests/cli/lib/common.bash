@@ -11,3 +11,24 @@ fail() {
   echo "FAIL: $*"
   failures=$((failures + 1))
 }
+
+# expect CODE PATTERN -- ARGS...: runs prism (as $RUN_PREFIX prism ARGS when RUN_PREFIX is set,
+# e.g. under prlimit or strace), checks the exit code, that stderr is exactly
+# one line, and that it matches PATTERN.
+expect() {
+  local code=$1 pattern=$2
+  shift 3
+  ${RUN_PREFIX:-} "$PRISM" "$@" >"$TMP/out" 2>"$TMP/err"
+  local got=$?
+  local lines
+  lines=$(wc -l <"$TMP/err")
+  if [[ $got -ne $code ]]; then
+    echo "FAIL: prism $* exited $got, expected $code"; cat "$TMP/err"; failures=$((failures + 1))
+  elif [[ $lines -ne 1 ]]; then
+    echo "FAIL: prism $* printed $lines lines on stderr, expected 1"; cat "$TMP/err"; failures=$((failures + 1))
+  elif ! grep -qE -- "$pattern" "$TMP/err"; then
+    echo "FAIL: prism $*: stderr does not match '$pattern':"; cat "$TMP/err"; failures=$((failures + 1))
+  else
+    echo "ok: prism $* -> $got: $(cat "$TMP/err")"
+  fi
+}
