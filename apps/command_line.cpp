@@ -81,7 +81,8 @@ SceneRequest scene_request(const SceneOptions& o, const SphereDetectionFlags& sp
 SessionOptions session_options(const SceneOptions& o) {
   SessionOptions options;
   options.threads = o.threads;
-  options.memory_budget_bytes = static_cast<uint64_t>(o.memory_limit_gib * double(uint64_t{1} << 30));
+  options.memory_budget_bytes =
+      static_cast<uint64_t>(o.memory_limit_gib * double(uint64_t{1} << 30));
   return options;
 }
 

@@ -161,7 +161,8 @@ class EmbreeScene {
   // One per geometry kind (baked triangles and sphere meshes: fill_triangle_hit).
   void fill_triangle_hit(const PreparedMesh& mesh, const RTCRayHit& rh, SurfaceHit* hit) const;
   void resolve_instance_hit(const Instance& instance, const RTCRayHit& rh, SurfaceHit* hit) const;
-  void resolve_sphere_hit(bool embree_points, const RTCRayHit& rh, SurfaceHit* hit) const;
+  void resolve_sphere_hit(bool embree_points, const Ray& ray, const RTCRayHit& rh,
+                          SurfaceHit* hit) const;
 
   std::shared_ptr<EmbreeDevice> device_;
   RTCScene scene_ = nullptr;
