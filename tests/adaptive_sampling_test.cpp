@@ -263,7 +263,7 @@ TEST(AdaptiveSampling, RoundsWithoutDecisionsGiveTheUniformImage) {
   // The uniform render against one whole-image tile with the default SamplePass: the call
   // the renderer made before rounds existed.
   const ColourPipeline colour(WorkingSpace::linear_rec709);
-  const RenderScene prepared(scene, GeometryOptions{}, colour);
+  const RenderScene prepared(scene, GeometryOptions{}, colour, Environment(settings.background));
   const Camera camera = prepared.camera(scene.cameras[0], settings.width, settings.height);
   Image whole(settings.width, settings.height);
   RayCounters counters;

@@ -232,10 +232,9 @@ TEST(TextureFiltering, GrazingCheckerConvergesToItsMean) {
     c.yfov = 0.5;
     c.camera_to_world = M44d().setTranslation(V3d(0.0, 0.5, 0.0));
     s.cameras.push_back(c);
-    const auto phong = make_integrator("phong");
     testing::TestSettings settings = small(V3f(1.0f));
     settings.width = settings.height = 64;
-    return testing::render_scene(s, *phong, settings);
+    return testing::render_scene(s, "phong", settings);
   };
   auto worst = [](const Image& image) {
     float worst = 0.0f;
