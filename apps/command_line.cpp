@@ -18,6 +18,10 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
       ->capture_default_str();
   cmd->add_option("--background", o->background, "Radiance of rays that leave the scene")
       ->capture_default_str();
+  cmd->add_option("--brdf", o->brdf,
+                  "Glossy lobe: gltf (glTF's GGX, Appendix B) | lecture (the lecture's Phong "
+                  "(R.V)^n, docs/materials.md)")
+      ->capture_default_str();
   // One flag per integrator parameter, from the integrators' own tables.
   for (const ParameterInfo* p : all_integrator_parameters()) {
     std::string takers;
@@ -89,6 +93,7 @@ SessionOptions session_options(const SceneOptions& o) {
 RenderJob base_job(const SceneOptions& o) {
   RenderJob job;
   job.working_space = parse_choice<WorkingSpace>(o.working_space, "--working-space");
+  job.brdf = parse_choice<BrdfModel>(o.brdf, "--brdf");
   if (!o.resolution.empty() && !parse_resolution(o.resolution, &job.width, &job.height))
     throw UsageError("--res " + o.resolution + ": expected WIDTHxHEIGHT, each 1 to " +
                      std::to_string(kMaxImageSide));

@@ -34,6 +34,7 @@ struct SceneOptions {
   std::string scene;       // glTF scene name or index, empty = the file's default
   int threads = 0;
   std::string working_space = "linear-rec709";
+  std::string brdf = "gltf";
   float background = 0.0f;
   bool allow_external_paths = false;  // buffers and images from outside the scene's folder
   double memory_limit_gib = 8.0;      // SessionOptions::memory_budget_bytes, in GiB

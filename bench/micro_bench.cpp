@@ -22,20 +22,20 @@
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 
-#include "integrators/registry.h"
 #include "integrators/local_shading.h"
+#include "integrators/registry.h"
 #include "renderer/camera.h"
-#include "renderer/image/colour.h"
 #include "renderer/geometry/embree_ray.h"
 #include "renderer/geometry/embree_scene.h"
-#include "renderer/math.h"
-#include "renderer/render_scene.h"
-#include "renderer/sampling/sampler.h"
-#include "scene_passes/scene_defaults.h"
 #include "renderer/geometry/sphere_geometry.h"
 #include "renderer/geometry/sphere_intersect.h"
 #include "renderer/geometry/sphere_mesh.h"
+#include "renderer/image/colour.h"
+#include "renderer/math.h"
+#include "renderer/render_scene.h"
+#include "renderer/sampling/sampler.h"
 #include "scene_io/gltf_loader.h"
+#include "scene_passes/scene_defaults.h"
 
 namespace prism {
 namespace {
@@ -226,8 +226,8 @@ void BM_OffsetRayOrigin(benchmark::State& state) {
 BENCHMARK(BM_OffsetRayOrigin);
 
 // The pixel sample every camera ray pays for when spp > 1: the Owen-scrambled Sobol point
-// (renderer/sampling/sampler.h) against the independent hash it replaced (two sample_uniform calls).
-// items_per_second is 2D samples per second.
+// (renderer/sampling/sampler.h) against the independent hash it replaced (two sample_uniform
+// calls). items_per_second is 2D samples per second.
 void BM_PixelSample(benchmark::State& state) {
   const bool sobol = state.range(0) != 0;
   for (auto _ : state) {
@@ -315,7 +315,7 @@ void BM_ShadeLocal(benchmark::State& state) {
     V3f sum(0.0f);
     for (const PreparedHit& p : hits) {
       const SurfaceResponse surface = evaluate(s.scene->material(p.hit.material), p.hit);
-      sum += shade_local<Shadows>(context, V3f(0.0f), p.hit, surface, p.to_viewer, &counters);
+      sum += shade_local<Shadows>(context, AmbientLight{}, p.hit, surface, p.to_viewer, &counters);
     }
     benchmark::DoNotOptimize(sum);
   }
@@ -376,9 +376,9 @@ void BM_TileLoop(benchmark::State& state) {
 }
 BENCHMARK(BM_TileLoop)
     ->ArgNames({"integrator", "busiest"})
-    ->ArgsProduct({benchmark::CreateDenseRange(
-                       0, static_cast<int>(integrator_registry().size()) - 1, 1),
-                   {0, 1}});
+    ->ArgsProduct(
+        {benchmark::CreateDenseRange(0, static_cast<int>(integrator_registry().size()) - 1, 1),
+         {0, 1}});
 
 }  // namespace
 }  // namespace prism

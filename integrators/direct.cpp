@@ -15,7 +15,7 @@ constexpr ShadingFlags direct_flags(bool shadows, bool emission) {
 }
 
 template <ShadingFlags F>
-void render_direct_tile_with(const RenderContext& context, const V3f& ambient, const TileRect& tile,
+void render_direct_tile_with(const RenderContext& context, const AmbientLight& ambient, const TileRect& tile,
                              Image* image, RayCounters* counters) {
   const auto direct_only = [](const CameraPacket&, SampleResult*, SurfaceResponse*, RayCounters*) {
   };
@@ -29,7 +29,7 @@ void render_direct_tile_with(const RenderContext& context, const V3f& ambient, c
 
 }  // namespace
 
-void render_direct_tile(const ShadingFlags& flags, const RenderContext& context, const V3f& ambient,
+void render_direct_tile(const ShadingFlags& flags, const RenderContext& context, const AmbientLight& ambient,
                         const TileRect& tile, Image* image, RayCounters* counters) {
   if (flags.shadows) {
     if (flags.emission)

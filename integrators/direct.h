@@ -16,7 +16,7 @@ namespace prism {
 // nothing emits, when it is zero) plus the local shading equation, with shadow rays as
 // F.shadows says.
 template <ShadingFlags F>
-Imath::V3f shade_direct(const RenderContext& context, const Imath::V3f& ambient,
+Imath::V3f shade_direct(const RenderContext& context, const AmbientLight& ambient,
                         const SurfaceHit& hit, const SurfaceResponse& surface,
                         const Imath::V3f& to_viewer, RayCounters* counters) {
   const Imath::V3f local =
@@ -30,7 +30,7 @@ Imath::V3f shade_direct(const RenderContext& context, const Imath::V3f& ambient,
 // Renders a tile by direct light, shading with shade_direct under flags.shadows and
 // flags.emission: the instantiation is picked here, once per tile (direct.cpp).
 void render_direct_tile(const ShadingFlags& flags, const RenderContext& context,
-                        const Imath::V3f& ambient, const TileRect& tile, Image* image,
+                        const AmbientLight& ambient, const TileRect& tile, Image* image,
                         RayCounters* counters);
 
 // The parameter both direct-light integrators take, as their tables declare it.
@@ -46,7 +46,7 @@ template <bool Shadows>
 class DirectLightIntegrator final : public Integrator {
  public:
   explicit DirectLightIntegrator(const ParameterValues& parameters)
-      : ambient_(parameters.real("ambient")) {}
+      : ambient_{Imath::V3f(parameters.real("ambient"))} {}
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {
@@ -56,7 +56,7 @@ class DirectLightIntegrator final : public Integrator {
   }
 
  private:
-  Imath::V3f ambient_;
+  AmbientLight ambient_;
 };
 
 }  // namespace prism

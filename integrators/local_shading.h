@@ -1,12 +1,14 @@
 // The lecture's local shading equation, shared by every integrator:
 //
-//   I = I_a k_a + sum_i I_i k_d (L_i . N) + sum_i I_i k_s (R_i . V)^n
+//   I = I_a k_a + sum_i I_i f(V, L_i) (L_i . N)
 //
 // in radiometric form (docs/materials.md): I_i is the irradiance a light delivers facing it
-// (LightSource::sample), k_d + k_s (R.V)^n the BSDF's non-delta lobes (Bsdf::eval: Lambert
-// rho_d / pi and the normalised Phong lobe), so the sum is reflected radiance. k_a = rho_d +
-// k_s, the albedo the surface shows under a uniform ambient radiance I_a (the integrator's
-// `ambient` parameter).
+// (LightSource::sample), f the BSDF's non-delta lobes (Bsdf::eval: glTF's GGX layer over
+// Lambert, or the lecture's Phong lobe), so the sum is reflected radiance. k_a is the
+// surface's albedo towards the viewer (Bsdf::albedo), what it reflects of a uniform ambient
+// radiance I_a (the integrator's `ambient` parameter) through the lobes the integrator does
+// not trace itself: every lobe for phong and shadow, the non-delta ones for whitted until
+// its depth limit. So a white furnace renders 1, never more, with every integrator.
 #pragma once
 
 #include <cmath>
@@ -17,6 +19,12 @@
 
 namespace prism {
 
+// A uniform radiance from every direction, reflected through the lobes `scope` names.
+struct AmbientLight {
+  Imath::V3f radiance{0.0f};
+  AlbedoScope scope = AlbedoScope::all_lobes;
+};
+
 // The local shading equation, with each light's term handed to
 // `light(radiance, shadow_ray, contribution)` in the lights' order, for every light that
 // faces the surface (lights behind it, N . L <= 0, are skipped without a ray):
@@ -25,13 +33,15 @@ namespace prism {
 // left it, the ambient term to begin with. shade_local decides visibility at once; the
 // direct-light tile loop collects a packet's shadow rays first (integrators/direct.cpp).
 template <bool Shadows, typename LightFn>
-Imath::V3f shade_local_with(const RenderContext& context, const Imath::V3f& ambient,
+Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& ambient,
                             const SurfaceHit& hit, const SurfaceResponse& surface,
                             const Imath::V3f& to_viewer, LightFn&& light) {
   const Bsdf& bsdf = surface.bsdf;
   const V3f n = bsdf.normal_towards(to_viewer);
-  V3f radiance = hadamard(ambient, bsdf.lobes().diffuse_albedo + bsdf.lobes().specular_colour) *
-                 surface.ambient_occlusion;
+  V3f radiance(0.0f);
+  if (ambient.radiance.x != 0.0f || ambient.radiance.y != 0.0f || ambient.radiance.z != 0.0f)
+    radiance = hadamard(ambient.radiance, bsdf.albedo(to_viewer, n, hit.back_face, ambient.scope)) *
+               surface.ambient_occlusion;
   for (const LightSource& source : context.scene.lights()) {
     // Every light is a delta light today, whose sample needs no random numbers.
     LightSample arrival;
@@ -62,7 +72,7 @@ Imath::V3f shade_local_with(const RenderContext& context, const Imath::V3f& ambi
 
 // Shadows = true casts one shadow ray per light that faces the surface, there and then.
 template <bool Shadows>
-Imath::V3f shade_local(const RenderContext& context, const Imath::V3f& ambient,
+Imath::V3f shade_local(const RenderContext& context, const AmbientLight& ambient,
                        const SurfaceHit& hit, const SurfaceResponse& surface,
                        const Imath::V3f& to_viewer, RayCounters* counters) {
   return shade_local_with<Shadows>(context, ambient, hit, surface, to_viewer,

@@ -54,7 +54,7 @@ class ShadowQueue {
 // background for a miss; surfaces[i] the hit's material response, for whitted's secondary
 // rays.
 template <ShadingFlags F>
-void shade_packet_direct(const RenderContext& context, const Imath::V3f& ambient,
+void shade_packet_direct(const RenderContext& context, const AmbientLight& ambient,
                          const CameraPacket& p, ShadowQueue* queue, SampleResult* results,
                          SurfaceResponse* surfaces, RayCounters* counters) {
   static_assert(F.shadows);
@@ -83,7 +83,7 @@ void shade_packet_direct(const RenderContext& context, const Imath::V3f& ambient
 // secondary rays there), and returns true; returns false, having done nothing, when F has
 // no shadow rays or the scene has more lights than the queue takes.
 template <ShadingFlags F, typename ThenFn>
-bool render_tile_queueing_shadows(const RenderContext& context, const Imath::V3f& ambient,
+bool render_tile_queueing_shadows(const RenderContext& context, const AmbientLight& ambient,
                                   const TileRect& tile, Image* image, RayCounters* counters,
                                   ThenFn&& then) {
   if constexpr (F.shadows) {

@@ -37,8 +37,15 @@ constexpr ParameterInfo kParameters[] = {
 
 // What one render's tracer needs besides the context: the integrator's parameters.
 struct WhittedParameters {
+  explicit WhittedParameters(const ParameterValues& values)
+      : max_depth(values.integer("max-depth")),
+        traced{Imath::V3f(values.real("ambient")), AlbedoScope::without_delta_lobes},
+        untraced{Imath::V3f(values.real("ambient")), AlbedoScope::all_lobes} {}
   int max_depth;
-  Imath::V3f ambient;
+  // At a hit whose mirror and refraction rays are traced, the ambient light reaches the
+  // other lobes only; at the depth limit, where they are not, every lobe.
+  AmbientLight traced, untraced;
+  const AmbientLight& ambient(int depth) const { return depth < max_depth ? traced : untraced; }
 };
 
 // The recursive tracer under flags F: without F.mirror the opaque part's mirror ray is never
@@ -61,7 +68,8 @@ struct WhittedTracer {
               add_secondary(p.rays[i], p.hits[i], surfaces[i], 0, results[i].radiance, c);
       }
     };
-    if (render_tile_queueing_shadows<F>(context, params.ambient, tile, image, counters, secondary))
+    if (render_tile_queueing_shadows<F>(context, params.ambient(0), tile, image, counters,
+                                        secondary))
       return;
     render_tile_shading_hits(context, tile, image, counters,
                              [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
@@ -79,7 +87,7 @@ struct WhittedTracer {
   V3f shade(const Ray& ray, const SurfaceHit& hit, int depth, RayCounters* counters) const {
     const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
     const V3f direct =
-        shade_direct<F>(context, params.ambient, hit, surface, -ray.direction, counters);
+        shade_direct<F>(context, params.ambient(depth), hit, surface, -ray.direction, counters);
     return add_secondary(ray, hit, surface, depth, direct, counters);
   }
 
@@ -116,8 +124,7 @@ constexpr ShadingFlags secondary_flags(bool shadows, bool transmission) {
 
 class WhittedIntegrator final : public Integrator {
  public:
-  explicit WhittedIntegrator(const ParameterValues& values)
-      : params_{values.integer("max-depth"), Imath::V3f(values.real("ambient"))} {}
+  explicit WhittedIntegrator(const ParameterValues& values) : params_(values) {}
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {
@@ -125,7 +132,7 @@ class WhittedIntegrator final : public Integrator {
     // No mirror and nothing transmissive: no ray beyond the shadow rays, so whitted is the
     // shadow integrator, and runs its very code.
     if (!flags.secondary())
-      return render_direct_tile(flags, context, params_.ambient, tile, image, counters);
+      return render_direct_tile(flags, context, params_.untraced, tile, image, counters);
     if (flags.shadows) {
       if (flags.transmission)
         run<secondary_flags(true, true)>(context, tile, image, counters);

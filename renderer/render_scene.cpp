@@ -11,26 +11,27 @@ namespace {
 
 std::vector<Material> make_materials(const SceneDescription& scene,
                                      const std::vector<Texture>& textures,
-                                     const ColourPipeline& colour) {
+                                     const ColourPipeline& colour, BrdfModel brdf) {
   std::vector<Material> materials;
   materials.reserve(scene.materials.size());
   for (const MaterialDescription& m : scene.materials)
-    materials.push_back(make_material(m, textures, colour));
+    materials.push_back(make_material(m, textures, colour, brdf));
   return materials;
 }
 
 }  // namespace
 
 RenderScene::RenderScene(const SceneDescription& scene, const GeometryOptions& options,
-                         const ColourPipeline& colour, const Environment& environment)
-    : RenderScene(std::make_shared<EmbreeDevice>(), scene, options, colour, environment) {}
+                         const ColourPipeline& colour, const Environment& environment,
+                         BrdfModel brdf)
+    : RenderScene(std::make_shared<EmbreeDevice>(), scene, options, colour, environment, brdf) {}
 
 RenderScene::RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
                          const GeometryOptions& options, const ColourPipeline& colour,
-                         const Environment& environment)
+                         const Environment& environment, BrdfModel brdf)
     : textures_(make_textures(scene.textures, colour)),
-      materials_(make_materials(scene, textures_, colour)),
-      default_material_(make_material(MaterialDescription{}, textures_, colour)),
+      materials_(make_materials(scene, textures_, colour, brdf)),
+      default_material_(make_material(MaterialDescription{}, textures_, colour, brdf)),
       geometry_(std::move(device), scene, options, materials_),
       environment_(environment),
       features_(derive_scene_features(scene, options.spheres)) {

@@ -23,13 +23,15 @@ class ColourPipeline;
 
 class RenderScene {
  public:
-  // Builds the geometry on `device` (not null), which it keeps alive.
+  // Builds the geometry on `device` (not null), which it keeps alive. `brdf` is the glossy
+  // lobe every material evaluates (renderer/shading/bsdf.h).
   RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescription& scene,
               const GeometryOptions& options, const ColourPipeline& colour,
-              const Environment& environment = {});
+              const Environment& environment = {}, BrdfModel brdf = BrdfModel::gltf);
   // On an Embree device of its own.
   RenderScene(const SceneDescription& scene, const GeometryOptions& options,
-              const ColourPipeline& colour, const Environment& environment = {});
+              const ColourPipeline& colour, const Environment& environment = {},
+              BrdfModel brdf = BrdfModel::gltf);
 
   const EmbreeScene& geometry() const { return geometry_; }
   // A camera whose rays live in the same shifted frame as the geometry and lights.

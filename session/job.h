@@ -72,6 +72,8 @@ struct RenderJob {
   RenderSettings film;
   WorkingSpace working_space = WorkingSpace::linear_rec709;
   float background = 0.0f;  // radiance of rays that leave the scene (grey)
+  // The glossy lobe: glTF's GGX, or the lecture's Phong (renderer/shading/bsdf.h).
+  BrdfModel brdf = BrdfModel::gltf;
   // How the BVH is built; renders with the same choices share one build.
   SphereOptions spheres;
   bool robust = false;

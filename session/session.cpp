@@ -223,7 +223,7 @@ void Session::check(const RenderJob& job) {
 const RenderScene& Session::render_scene(const RenderJob& job, double* build_seconds) {
   const int camera = camera_index(job.camera);
   auto key = std::make_tuple(to_string(job.spheres), job.robust, job.build_quality,
-                             job.working_space, job.background, camera);
+                             job.working_space, job.background, camera, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
   if (built_.scene && built_.key == key) return *built_.scene;
   const ColourPipeline& colours = colour(job.working_space);
@@ -239,7 +239,7 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     geometry.world_origin = camera_position(scene_.cameras[static_cast<size_t>(camera)]);
     if (!device_) device_ = std::make_shared<EmbreeDevice>();
     built_.scene = std::make_unique<RenderScene>(device_, scene_, geometry, colours,
-                                                 Environment(Imath::V3f(job.background)));
+                                                 Environment(Imath::V3f(job.background)), job.brdf);
   });
   built_.key = key;
   if (build_seconds) *build_seconds = seconds_since(start);
@@ -299,6 +299,7 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Came
   m.extra = {{"camera", out.camera_name},
              {"spheres", to_string(job.spheres)},
              {"buildQuality", to_string(job.build_quality)},
+             {"brdf", to_string(job.brdf)},
              {"robust", job.robust ? "1" : "0"}};
   for (const ParameterInfo& info : p.integrator->parameters)
     m.extra.push_back({camel_case(info.name), format_number(p.parameters.real(info.name))});

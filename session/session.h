@@ -108,7 +108,7 @@ class Session {
   std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
   // The render scene kept, with the choices it was built for.
   struct BuiltScene {
-    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, int> key;
+    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, int, BrdfModel> key;
     std::unique_ptr<RenderScene> scene;
   };
   BuiltScene built_;

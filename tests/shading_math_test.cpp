@@ -7,8 +7,8 @@
 #include <limits>
 #include <numbers>
 
-#include "renderer/shading/material.h"
 #include "renderer/math.h"
+#include "renderer/shading/material.h"
 
 namespace prism {
 namespace {
@@ -93,7 +93,8 @@ TEST(RayOffset, MovesOffTheSurfaceByAFewUlpsAtAnyScale) {
 
 TEST(MaterialMapping, PhongExponentFromRoughness) {
   EXPECT_EQ(phong_exponent_from_roughness(1.0f), 0.0f);
-  EXPECT_NEAR(phong_exponent_from_roughness(0.5f), 2.0f / 0.0625f - 2.0f, 1e-3f);
+  // Walter's n_H = 2 / alpha^2 - 2 for (N.H)^n, a quarter of it for (R.V)^n: 7.5 at alpha 1/4.
+  EXPECT_NEAR(phong_exponent_from_roughness(0.5f), (2.0f / 0.0625f - 2.0f) / 4.0f, 1e-3f);
   EXPECT_EQ(phong_exponent_from_roughness(0.0f), kMaxPhongExponent);
 }
 
@@ -113,30 +114,37 @@ TEST(MaterialMapping, NormalisedPhongLobeNeverCreatesEnergy) {
   }
 }
 
+// A white material, whatever its metallic, transmission, ior and roughness, reflects at most
+// what it receives from a uniform surround at every viewing angle (Bsdf::albedo, the
+// ambient term's k_a), and a white dielectric exactly all of it.
 TEST(MaterialMapping, WhiteSurfaceNeverReflectsMoreThanItReceives) {
-  for (float metallic : {0.0f, 0.3f, 1.0f}) {
-    for (float transmission : {0.0f, 0.5f, 1.0f}) {
-      for (float ior : {1.0f, 1.5f, 2.4f}) {
-        Material m;
-        m.metallic = metallic;
-        m.transmission = transmission;
-        m.ior = ior;
-        const SurfaceResponse r = evaluate(m, SurfaceHit{});
-        // Diffuse + specular + transmitted at normal incidence (the transmissive part
-        // refracts 1 - F of its share), at most 1 in every channel.
-        const float total =
-            r.bsdf.lobes().diffuse_albedo.x + r.bsdf.lobes().specular_colour.x + r.bsdf.lobes().transmission * (1.0f - dielectric_f0(ior));
-        EXPECT_LE(total, 1.0f + 1e-6f) << metallic << " " << transmission << " " << ior;
-        EXPECT_GE(r.bsdf.lobes().diffuse_albedo.x, 0.0f);
-      }
-    }
-  }
-  // Plain white dielectric: (1 - 0.04) diffuse + 0.04 specular = 1.
+  const V3f n(0.0f, 0.0f, 1.0f);
+  for (float metallic : {0.0f, 0.3f, 1.0f})
+    for (float transmission : {0.0f, 0.5f, 1.0f})
+      for (float ior : {1.0f, 1.5f, 2.4f})
+        for (float roughness : {0.0f, 0.3f, 1.0f})
+          for (float cos_v : {1.0f, 0.5f, 0.05f}) {
+            Material m;
+            m.metallic = metallic;
+            m.transmission = transmission;
+            m.ior = ior;
+            m.roughness = roughness;
+            const SurfaceResponse r = evaluate(m, SurfaceHit{});
+            const V3f wo(std::sqrt(1.0f - cos_v * cos_v), 0.0f, cos_v);
+            const float total = r.bsdf.albedo(wo, n, false, AlbedoScope::all_lobes).x;
+            EXPECT_LE(total, 1.0f + 1e-5f) << metallic << " " << transmission << " " << ior << " "
+                                           << roughness << " " << cos_v;
+            if (metallic == 0.0f) {
+              EXPECT_NEAR(total, 1.0f, 1e-5f) << transmission << " " << ior << " " << roughness;
+            }
+            EXPECT_GE(r.bsdf.lobes().diffuse_albedo.x, 0.0f);
+          }
+  // Plain white dielectric: F0 0.04 from ior 1.5, the base white Lambert under it.
   Material white;
   white.metallic = 0.0f;
   const SurfaceResponse r = evaluate(white, SurfaceHit{});
-  EXPECT_NEAR(r.bsdf.lobes().diffuse_albedo.x + r.bsdf.lobes().specular_colour.x, 1.0f, 1e-6f);
-  EXPECT_NEAR(r.bsdf.lobes().specular_colour.x, 0.04f, 1e-6f);
+  EXPECT_NEAR(r.bsdf.lobes().dielectric_f0.x, 0.04f, 1e-6f);
+  EXPECT_NEAR(r.bsdf.lobes().diffuse_albedo.x, 1.0f, 1e-6f);
 }
 
 }  // namespace

@@ -91,6 +91,7 @@ struct TestSettings : RenderSettings {
   int max_depth = 5;
   float ambient = 0.0f;
   V3f background{0.0f, 0.0f, 0.0f};
+  BrdfModel brdf = BrdfModel::gltf;
 };
 
 // The integrator `name` with the settings' parameters that it takes.
@@ -115,7 +116,8 @@ inline Rendered render_scene(const SceneDescription& scene, const Integrator& in
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   Rendered r;
   arena.execute([&] {
-    const RenderScene render_scene(scene, options, colour, Environment(settings.background));
+    const RenderScene render_scene(scene, options, colour, Environment(settings.background),
+                                   settings.brdf);
     const Camera cam = render_scene.camera(description, settings.width, settings.height);
     r.result = render(integrator, RenderContext{render_scene, cam, settings}, &r.image);
   });

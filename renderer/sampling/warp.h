@@ -11,15 +11,28 @@
 
 namespace prism {
 
-// A unit vector in the frame whose z is `axis` (unit): Duff et al.'s branchless basis
+// The tangents t, s of the frame whose z is `axis` (unit): Duff et al.'s branchless basis
 // ("Building an Orthonormal Basis, Revisited", 2017), continuous except at axis.z = -0.
-inline Imath::V3f from_local(const Imath::V3f& local, const Imath::V3f& axis) {
+inline void orthonormal_basis(const Imath::V3f& axis, Imath::V3f* t, Imath::V3f* s) {
   const float sign = std::copysign(1.0f, axis.z);
   const float a = -1.0f / (sign + axis.z);
   const float b = axis.x * axis.y * a;
-  const Imath::V3f t(1.0f + sign * axis.x * axis.x * a, sign * b, -sign * axis.x);
-  const Imath::V3f s(b, sign + axis.y * axis.y * a, -axis.y);
+  *t = Imath::V3f(1.0f + sign * axis.x * axis.x * a, sign * b, -sign * axis.x);
+  *s = Imath::V3f(b, sign + axis.y * axis.y * a, -axis.y);
+}
+
+// A unit vector given in the frame whose z is `axis`, in world space.
+inline Imath::V3f from_local(const Imath::V3f& local, const Imath::V3f& axis) {
+  Imath::V3f t, s;
+  orthonormal_basis(axis, &t, &s);
   return t * local.x + s * local.y + axis * local.z;
+}
+
+// The inverse of from_local: a world vector in the frame whose z is `axis`.
+inline Imath::V3f to_local(const Imath::V3f& world, const Imath::V3f& axis) {
+  Imath::V3f t, s;
+  orthonormal_basis(axis, &t, &s);
+  return Imath::V3f(t.dot(world), s.dot(world), axis.dot(world));
 }
 
 // Cosine-weighted hemisphere about +z (Malley's method on a concentric disc): pdf cos / pi.

@@ -2,16 +2,19 @@
 // (pbrt-v4's base/bxdf.h contract): eval, sample, pdf and lobe flags, all in world space with
 // directions pointing away from the surface (wo towards the viewer, wi towards the light).
 //
-// Today's lobes are the lecture's local model mapped from glTF (docs/materials.md):
-//   Lambert diffuse rho_d / pi + normalised Phong k_s (n + 2) / (2 pi) (R.V)^n
-// and two delta lobes the Whitted integrator traces deterministically: a mirror weighted by
-// Schlick's Fresnel with F0 = k_s (roughness <= kMirrorRoughness), and a smooth dielectric
-// that reflects F and refracts 1 - F (exact Fresnel, the material's ior), tinted by the base
-// colour on entry. A path tracer samples all of them through sample(); the Whitted
-// integrators ask eval() per light and specular_lobes() for their recursive rays.
+// The lobes are glTF 2.0's (specification Appendix B, docs/materials.md): a specular layer
+// (GGX, height-correlated Smith visibility, Schlick's Fresnel; conductor_fresnel for the
+// metal part, fresnel_mix for the dielectric part with KHR_materials_specular's F0 and F90)
+// over a Lambert base. With BrdfModel::lecture the layer's glossy lobe is the lecture's
+// normalised Phong lobe k_s (n + 2) / (2 pi) (R.V)^n instead, and the diffuse base is
+// rho_d (1 - max F0) / pi: the model Prism started from, kept for comparison.
 //
-// Every method computes exactly what the integrators computed inline before it existed, in
-// the same order, so images are bit for bit those of the hand-written code.
+// Two delta lobes are traced by integrators that follow mirror rays: the layer's mirror
+// reflection where the surface is smooth (roughness <= kMirrorRoughness), weighted by the
+// layer's own Schlick Fresnel at the viewing angle, and the transmissive part, a smooth
+// dielectric that reflects F and refracts 1 - F (exact Fresnel with the material's ior),
+// tinted by the base colour on entry. eval() keeps the layer's GGX lobe on smooth surfaces
+// too: it is how a punctual light, which no mirror ray can find, shows its highlight.
 #pragma once
 
 #include <algorithm>
@@ -20,8 +23,11 @@
 
 #include <Imath/ImathVec.h>
 
+#include "renderer/enum_names.h"
 #include "renderer/math.h"
 #include "renderer/sampling/warp.h"
+#include "renderer/shading/ggx_albedo.h"
+#include "renderer/shading/microfacet.h"
 
 namespace prism {
 
@@ -34,16 +40,38 @@ enum BsdfLobe : uint8_t {
 };
 inline constexpr uint8_t kSpecularLobes = kSpecularReflection | kSpecularTransmission;
 
-// The lobes' parameters at one point, in the working colour space.
+// Which glossy lobe eval() evaluates: glTF's GGX (the default), or the lecture's Phong lobe.
+enum class BrdfModel : uint8_t { gltf, lecture };
+inline constexpr EnumName<BrdfModel> kBrdfModelNames[] = {{BrdfModel::gltf, "gltf"},
+                                                          {BrdfModel::lecture, "lecture"}};
+constexpr std::span<const EnumName<BrdfModel>> enum_names(BrdfModel) {
+  return kBrdfModelNames;
+}
+
+// The lobes' parameters at one point, in the working colour space. With metallic m,
+// transmission T and base colour rho (renderer/shading/material.cpp fills them):
 struct BsdfLobes {
-  Imath::V3f diffuse_albedo{0.0f};   // rho_d; the BRDF is rho_d / pi
-  Imath::V3f specular_colour{0.0f};  // k_s: reflectance at normal incidence (F0)
-  float phong_exponent = 0.0f;       // n of the normalised lobe (n + 2) / (2 pi) (R.V)^n
-  bool mirror = false;               // the specular reflection lobe is present
-  float transmission = 0.0f;         // weight of the smooth dielectric part
+  BrdfModel model = BrdfModel::gltf;
+  Imath::V3f diffuse_albedo{0.0f};  // rho (1 - m)(1 - T): the base under the dielectric layer
+  // The dielectric's layer, F = F0 + (F90 - F0)(1 - v.h)^5: the diffuse base receives
+  // 1 - max(F) of the light (glTF's fresnel_mix with KHR_materials_specular).
+  Imath::V3f dielectric_f0{0.0f};
+  float dielectric_f90 = 0.0f;
+  // The whole specular layer, (1 - m) dielectric + m (rho, 1): conductor_fresnel and
+  // fresnel_mix blended by m, as glTF's mix(dielectric_brdf, metal_brdf, metallic).
+  Imath::V3f specular_f0{0.0f};
+  Imath::V3f specular_f90{0.0f};
+  float alpha = 1.0f;           // GGX alpha = roughness^2
+  float phong_exponent = 0.0f;  // the lecture model's n
+  bool mirror = false;          // the layer's delta reflection is present
+  float transmission = 0.0f;    // (1 - m) T: weight of the smooth dielectric part
   float ior = 1.5f;
   Imath::V3f transmission_tint{1.0f};  // colour of light passing in (the base colour)
 };
+
+// Which lobes an albedo covers: an integrator that traces the delta lobes itself asks for
+// the rest only, so that each lobe's light is counted once.
+enum class AlbedoScope : uint8_t { all_lobes, without_delta_lobes };
 
 // One direction a delta lobe scatters into, with its weight (f cos / pdf): the radiance L
 // arriving along wi contributes hadamard(colour, L) * scale. Colour and scale are kept apart
@@ -79,26 +107,62 @@ class Bsdf {
   uint8_t flags() const {
     uint8_t f = 0;
     if (has(lobes_.diffuse_albedo)) f |= kDiffuseReflection;
-    if (has(lobes_.specular_colour)) f |= kGlossyReflection;
-    if (lobes_.mirror && lobes_.transmission < 1.0f) f |= kSpecularReflection;
+    if (has(lobes_.specular_f90) || has(lobes_.specular_f0)) f |= kGlossyReflection;
+    if (lobes_.mirror && has(mirror_f90())) f |= kSpecularReflection;
     if (lobes_.transmission > 0.0f) f |= kSpecularReflection | kSpecularTransmission;
     return f;
   }
 
   // f(wo, wi) of the non-delta lobes, for wi on wo's side of the shading normal `n`
-  // (normal_towards(wo)); zero below it. The Phong term uses R = reflect(-wi, n).
+  // (normal_towards(wo)); zero below it.
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
-    if (dot(n, wi) <= 0.0f) return Imath::V3f(0.0f);
-    const float lobe_norm = (lobes_.phong_exponent + 2.0f) * (0.5f * kInvPi);
-    const Imath::V3f reflected = reflect(-wi, n);
-    const float cos_view = std::fmax(0.0f, dot(reflected, wo));
-    const float specular = lobes_.phong_exponent > 0.0f
-                               ? lobe_norm * std::pow(cos_view, lobes_.phong_exponent)
-                               : lobe_norm;
-    return lobes_.diffuse_albedo * kInvPi + lobes_.specular_colour * specular;
+    const float cos_i = dot(n, wi);
+    if (cos_i <= 0.0f) return Imath::V3f(0.0f);
+    if (lobes_.model == BrdfModel::lecture) return eval_lecture(wo, wi, n);
+    const float cos_o = std::fmax(0.0f, dot(n, wo));
+    Imath::V3f h = wo + wi;
+    const float h_len = h.length();
+    // wi opposite wo (both grazing): the half vector is the normal's limit.
+    h = h_len > 0.0f ? h / h_len : n;
+    const float weight = schlick_weight(std::fmax(0.0f, dot(wo, h)));
+    const Imath::V3f fresnel_d =
+        lobes_.dielectric_f0 + (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * weight;
+    const Imath::V3f diffuse = lobes_.diffuse_albedo * (kInvPi * (1.0f - max_of(fresnel_d)));
+    const float alpha = std::fmax(lobes_.alpha, kMinGgxAlpha);
+    const float dv = ggx_d(dot(n, h), alpha) * ggx_visibility(cos_i, cos_o, alpha);
+    const Imath::V3f fresnel =
+        lobes_.specular_f0 + (lobes_.specular_f90 - lobes_.specular_f0) * weight;
+    return diffuse + fresnel * dv;
   }
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi) const {
     return eval(wo, wi, normal_towards(wo));
+  }
+
+  // The light the surface reflects towards wo under a uniform radiance of 1 from every
+  // direction, for the lobes `scope` names: the lecture's ambient albedo k_a, made exact.
+  // The diffuse base receives what the dielectric's layer does not reflect at this angle,
+  // so that for rho <= 1 the total never exceeds 1 and is exactly 1 for a white, lossless
+  // material (white Lambert, white smooth metal, a smooth or rough white dielectric, clear
+  // glass). Rough layers use the tabulated GGX albedo (ggx_albedo.h). `back_face`: wo is
+  // inside the transmissive part.
+  Imath::V3f albedo(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
+                    AlbedoScope scope) const {
+    const float cos_v = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
+    GgxAlbedo layer{1.0f, schlick_weight(cos_v)};
+    if (!lobes_.mirror) layer = ggx_albedo(cos_v, lobes_.alpha);
+    const Imath::V3f dielectric_layer =
+        lobes_.dielectric_f0 * layer.e +
+        (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * layer.e_schlick;
+    Imath::V3f total = lobes_.diffuse_albedo * (1.0f - std::fmin(1.0f, max_of(dielectric_layer)));
+    const bool with_delta = scope == AlbedoScope::all_lobes;
+    if (!lobes_.mirror || with_delta)
+      total += mirror_f0() * layer.e + (mirror_f90() - mirror_f0()) * layer.e_schlick;
+    if (with_delta && lobes_.transmission > 0.0f) {
+      SpecularLobe lobes[2];
+      const int count = specular_lobes<false, true>(wo, n, back_face, lobes);
+      for (int i = 0; i < count; ++i) total += lobes[i].weight();
+    }
+    return total;
   }
 
   // The density sample() picks wi with among its non-delta lobes (the delta lobes' share
@@ -109,7 +173,7 @@ class Bsdf {
     if (cos_wi <= 0.0f) return 0.0f;
     const LobeChoice c = choice(wo, n);
     float density = c.diffuse * cos_wi * kInvPi;
-    if (c.glossy > 0.0f) density += c.glossy * phong_pdf(wo, wi, n);
+    if (c.glossy > 0.0f) density += c.glossy * glossy_pdf(wo, wi, n);
     return density;
   }
 
@@ -143,9 +207,16 @@ class Bsdf {
     if (u_rest * (c.diffuse + c.glossy) < c.diffuse || c.glossy <= 0.0f) {
       wi = from_local(square_to_cosine_hemisphere(u), n);
       out->lobe = kDiffuseReflection;
-    } else {
+    } else if (lobes_.model == BrdfModel::lecture) {
       const Imath::V3f r = reflect(-wo, n);
       wi = from_local(square_to_cosine_power(u, lobes_.phong_exponent), r);
+      out->lobe = kGlossyReflection;
+    } else {
+      const Imath::V3f wo_local = to_local(wo, n);
+      const Imath::V3f h = sample_ggx_visible_normal(
+          wo_local.z > 0.0f ? wo_local : Imath::V3f(wo_local.x, wo_local.y, 1e-6f),
+          std::fmax(lobes_.alpha, kMinGgxAlpha), u);
+      wi = from_local(h * (2.0f * wo_local.dot(h)) - wo_local, n);
       out->lobe = kGlossyReflection;
     }
     if (dot(n, wi) <= 0.0f) return false;
@@ -167,10 +238,9 @@ class Bsdf {
     Imath::V3f reflect_weight(0.0f);
     int count = 0;
     if constexpr (Mirror) {
-      if (lobes_.mirror && lobes_.transmission < 1.0f) {
-        const Imath::V3f f0 = lobes_.specular_colour;
-        reflect_weight +=
-            (f0 + (Imath::V3f(1.0f) - f0) * schlick_weight(cos_i)) * (1.0f - lobes_.transmission);
+      if (lobes_.mirror) {
+        const Imath::V3f f0 = mirror_f0();
+        reflect_weight += f0 + (mirror_f90() - f0) * schlick_weight(cos_i);
       }
     }
     if constexpr (Transmission) {
@@ -192,8 +262,32 @@ class Bsdf {
   }
 
  private:
+  // The lecture's lobes: Lambert under the layer's normal-incidence share, and normalised
+  // Phong about the mirror direction R = reflect(-wi, n).
+  Imath::V3f eval_lecture(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
+    const float lobe_norm = (lobes_.phong_exponent + 2.0f) * (0.5f * kInvPi);
+    const Imath::V3f reflected = reflect(-wi, n);
+    const float cos_view = std::fmax(0.0f, dot(reflected, wo));
+    const float specular = lobes_.phong_exponent > 0.0f
+                               ? lobe_norm * std::pow(cos_view, lobes_.phong_exponent)
+                               : lobe_norm;
+    return lobes_.diffuse_albedo * (kInvPi * (1.0f - max_of(lobes_.dielectric_f0))) +
+           lobes_.specular_f0 * specular;
+  }
+
+  // The layer over the opaque parts (metal and opaque dielectric), which the mirror ray
+  // carries: the whole layer less the transmissive part's, whose reflection is the smooth
+  // dielectric's exact Fresnel.
+  Imath::V3f mirror_f0() const {
+    return clamp_non_negative(lobes_.specular_f0 - lobes_.dielectric_f0 * lobes_.transmission);
+  }
+  Imath::V3f mirror_f90() const {
+    return clamp_non_negative(lobes_.specular_f90 -
+                              Imath::V3f(lobes_.dielectric_f90 * lobes_.transmission));
+  }
+
   // How sample() splits its choice: the delta lobes' share first, then diffuse and glossy in
-  // proportion to their albedos.
+  // proportion to estimates of their albedos (any positive split is unbiased).
   struct LobeChoice {
     float specular = 0.0f, diffuse = 0.0f, glossy = 0.0f;
   };
@@ -203,7 +297,11 @@ class Bsdf {
     const int count = specular_lobes<true, true>(wo, n, false, lobes);
     for (int i = 0; i < count; ++i) specular += luminance(lobes[i].weight());
     const float diffuse = luminance(lobes_.diffuse_albedo);
-    const float glossy = luminance(lobes_.specular_colour);
+    // A smooth layer's light is the mirror's; its GGX lobe is for punctual lights only.
+    const float glossy = lobes_.mirror
+                             ? 0.0f
+                             : luminance(lobes_.model == BrdfModel::lecture ? lobes_.specular_f0
+                                                                            : lobes_.specular_f90);
     const float total = specular + diffuse + glossy;
     if (!(total > 0.0f)) return {};
     const float rest = 1.0f - specular / total;
@@ -211,17 +309,25 @@ class Bsdf {
     if (!(reflect_total > 0.0f)) return {specular / total, 0.0f, 0.0f};
     return {specular / total, rest * diffuse / reflect_total, rest * glossy / reflect_total};
   }
-  // Density of the Phong lobe's sampling: cos^n about the mirror direction R of wo.
-  float phong_pdf(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
-    const float cos_alpha = dot(reflect(-wo, n), wi);
-    if (cos_alpha <= 0.0f) return 0.0f;
-    return cosine_power_pdf(cos_alpha, lobes_.phong_exponent);
-  }
-  static float schlick_weight(float cos_theta) {
-    const float m = std::fmax(0.0f, 1.0f - cos_theta);
-    return (m * m) * (m * m) * m;
+  // Density of the glossy lobe's sampling: the visible normals' for GGX (Heitz 2018:
+  // G1(wo) D(h) / (4 cos_o)), cos^n about the mirror direction R of wo for Phong.
+  float glossy_pdf(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
+    if (lobes_.model == BrdfModel::lecture) {
+      const float cos_alpha = dot(reflect(-wo, n), wi);
+      if (cos_alpha <= 0.0f) return 0.0f;
+      return cosine_power_pdf(cos_alpha, lobes_.phong_exponent);
+    }
+    const float cos_o = dot(n, wo);
+    if (!(cos_o > 0.0f)) return 0.0f;
+    const Imath::V3f h = normalize(wo + wi);
+    const float alpha = std::fmax(lobes_.alpha, kMinGgxAlpha);
+    return ggx_g1(cos_o, alpha) * ggx_d(dot(n, h), alpha) / (4.0f * cos_o);
   }
   static bool has(const Imath::V3f& c) { return c.x > 0.0f || c.y > 0.0f || c.z > 0.0f; }
+  static float max_of(const Imath::V3f& c) { return std::fmax(c.x, std::fmax(c.y, c.z)); }
+  static Imath::V3f clamp_non_negative(const Imath::V3f& c) {
+    return Imath::V3f(std::fmax(0.0f, c.x), std::fmax(0.0f, c.y), std::fmax(0.0f, c.z));
+  }
   static float luminance(const Imath::V3f& c) {
     return std::fmax(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
   }

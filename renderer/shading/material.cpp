@@ -129,7 +129,9 @@ V3f bend_normal(const SurfaceHit& hit, const V4f& texel, float scale) {
 
 float phong_exponent_from_roughness(float roughness) {
   const float alpha = std::max(roughness * roughness, 1e-4f);
-  return std::clamp(2.0f / (alpha * alpha) - 2.0f, 0.0f, kMaxPhongExponent);
+  // Walter et al.'s n_H = 2 / alpha^2 - 2 is for (N.H)^n; R.V turns twice as fast as N.H
+  // near the mirror direction, so the same lobe width in (R.V)^n takes n_H / 4.
+  return std::clamp(0.5f / (alpha * alpha) - 0.5f, 0.0f, kMaxPhongExponent);
 }
 
 float dielectric_f0(float ior) {
@@ -138,8 +140,9 @@ float dielectric_f0(float ior) {
 }
 
 Material make_material(const MaterialDescription& d, const std::vector<Texture>& textures,
-                       const ColourPipeline& colour) {
+                       const ColourPipeline& colour, BrdfModel brdf) {
   Material m;
+  m.brdf = brdf;
   m.base_colour = to_rgb(colour.from_linear_rec709(d.base_colour));
   m.alpha = std::clamp(d.alpha, 0.0f, 1.0f);
   m.base_colour_texture = make_slot(d.base_colour_texture, d.base_colour_mapping, textures);
@@ -202,21 +205,24 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
     emission = hadamard(emission, Rgb(t.x, t.y, t.z));
   }
 
-  // Dielectric and metal responses are blended by `metallic`, as glTF does. The dielectric's
-  // specular layer reflects F0 (from the ior, tinted and weighted by KHR_materials_specular)
-  // and leaves (1 - max F0) for its diffuse and transmitted parts, so the albedo
-  //   (1 - m)(1 - F0) rho + (1 - m) F0 + m rho
-  // never exceeds 1 for rho <= 1: a white surface never reflects more than it receives.
+  // glTF's mix(dielectric_brdf, metal_brdf, metallic): the metal's layer reflects the base
+  // colour (conductor_fresnel), the dielectric's F0 from the ior, tinted and weighted by
+  // KHR_materials_specular, with F90 its weight (fresnel_mix), over a base that is Lambert
+  // where it is not transmissive.
   const float f0_ior = dielectric_f0(material.ior);
   const Rgb f0(std::min(f0_ior * material.specular_colour.x, 1.0f) * material.specular,
                std::min(f0_ior * material.specular_colour.y, 1.0f) * material.specular,
                std::min(f0_ior * material.specular_colour.z, 1.0f) * material.specular);
-  const float layer = std::max({f0.x, f0.y, f0.z});
   const float dielectric = 1.0f - metallic;
   BsdfLobes lobes;
+  lobes.model = material.brdf;
   lobes.transmission = dielectric * material.transmission;
-  lobes.diffuse_albedo = base * (dielectric * (1.0f - material.transmission) * (1.0f - layer));
-  lobes.specular_colour = f0 * dielectric + base * metallic;
+  lobes.diffuse_albedo = base * (dielectric * (1.0f - material.transmission));
+  lobes.dielectric_f0 = f0;
+  lobes.dielectric_f90 = material.specular;
+  lobes.specular_f0 = f0 * dielectric + base * metallic;
+  lobes.specular_f90 = Rgb(material.specular * dielectric + metallic);
+  lobes.alpha = roughness * roughness;
   lobes.phong_exponent = phong_exponent_from_roughness(roughness);
   lobes.mirror = roughness <= kMirrorRoughness;
   lobes.ior = material.ior;

@@ -1,7 +1,6 @@
-// glTF's metallic-roughness material mapped onto the lecture's shading model:
-//   ambient + Lambert diffuse + normalised Phong specular + mirror reflection + refraction,
-// in radiometric units (docs/materials.md has the derivation). All colours are RGB in the
-// working colour space.
+// glTF's metallic-roughness material (specification Appendix B, KHR_materials_specular, _ior,
+// _transmission, _emissive_strength) as the BSDF of renderer/shading/bsdf.h, in radiometric
+// units (docs/materials.md has the formulas). All colours are RGB in the working colour space.
 #pragma once
 
 #include <vector>
@@ -19,10 +18,11 @@ namespace prism {
 class ColourPipeline;
 using Rgb = Imath::V3f;
 
-// Roughness at or below which a surface is a perfect mirror for the whitted integrator.
+// Roughness at or below which a surface's layer is also a delta mirror, traced by the
+// integrators that follow mirror rays.
 constexpr float kMirrorRoughness = 0.1f;
-// Phong's exponent is capped so that a smooth surface still shows a (tiny) highlight of a
-// point light, which a mirror ray can never find.
+// The lecture model's Phong exponent is capped so that a smooth surface still shows a
+// (tiny) highlight of a point light, which a mirror ray can never find.
 constexpr float kMaxPhongExponent = 10000.0f;
 
 // A material slot's texture and where it is read: the texture coordinate set and
@@ -62,6 +62,7 @@ struct Material {
   float ior = 1.5f;
   float specular = 1.0f;  // KHR_materials_specular
   Rgb specular_colour{1.0f, 1.0f, 1.0f};
+  BrdfModel brdf = BrdfModel::gltf;
 };
 
 // What a material is at one surface point: its BSDF (renderer/shading/bsdf.h), the light it
@@ -78,7 +79,7 @@ struct SurfaceResponse {
 };
 
 Material make_material(const MaterialDescription& description, const std::vector<Texture>& textures,
-                       const ColourPipeline& colour);
+                       const ColourPipeline& colour, BrdfModel brdf = BrdfModel::gltf);
 
 // Evaluates the material at a hit: its textures at the hit's texture coordinates (not read
 // when untextured), filtered over the pixel's footprint, COLOR_0, its normal map and its
@@ -89,8 +90,9 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit);
 // without the rest of evaluate. The texture is read at its finest level.
 float base_colour_alpha(const Material& material, const SurfaceHit& hit);
 
-// The Phong exponent that matches a glTF roughness: the Blinn-Phong/Beckmann correspondence
-// n = 2 / alpha^2 - 2 with alpha = roughness^2, capped at kMaxPhongExponent.
+// The lecture model's exponent n of (R.V)^n for a glTF roughness: the Blinn-Phong/Beckmann
+// correspondence n_H = 2 / alpha^2 - 2 (alpha = roughness^2) for (N.H)^n, divided by 4 for
+// the R.V form, capped at kMaxPhongExponent.
 float phong_exponent_from_roughness(float roughness);
 
 // Reflectance at normal incidence of a dielectric with index of refraction `ior` in air.

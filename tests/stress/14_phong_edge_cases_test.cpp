@@ -9,8 +9,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "integrators/registry.h"
 #include "integrators/local_shading.h"
+#include "integrators/registry.h"
 #include "renderer/geometry/sphere_mesh.h"
 #include "tests/test_scenes.h"
 
@@ -41,7 +41,7 @@ struct Shading {
     hit.geometric_normal = hit.shading_normal = V3f(0.0f, 1.0f, 0.0f);
     const RenderContext context{*scene, *camera, settings};
     const V3f v = normalize(to_viewer);
-    const V3f ambient(settings.ambient);
+    const AmbientLight ambient{V3f(settings.ambient)};
     const V3f L = shadows ? shade_local<true>(context, ambient, hit, surface, v, &counters)
                           : shade_local<false>(context, ambient, hit, surface, v, &counters);
     EXPECT_TRUE(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z));
@@ -61,8 +61,9 @@ constexpr double kRhoD = 0.3, kKs = 0.2;
 
 SurfaceResponse surface_with_exponent(float n) {
   BsdfLobes lobes;
+  lobes.model = BrdfModel::lecture;
   lobes.diffuse_albedo = V3f(static_cast<float>(kRhoD));
-  lobes.specular_colour = V3f(static_cast<float>(kKs));
+  lobes.specular_f0 = V3f(static_cast<float>(kKs));
   lobes.phong_exponent = n;
   SurfaceResponse s{};
   s.bsdf = Bsdf(V3f(0.0f, 1.0f, 0.0f), lobes);  // the surface's normal, as the hit's
@@ -118,16 +119,20 @@ TEST(StressPhongEdgeCases, ExponentsZeroFractionalAndCapWithRDotVPositiveZeroAnd
   EXPECT_NEAR(expected(32.5, 2.0, cos_l, 0.0), 0.135047, 1e-6);
   EXPECT_NEAR(expected(1e4, 2.0, cos_l, 1.0), 450.3832, 1e-4);
   // Through the material: roughness 0 hits the cap, roughness 1 is the uniform lobe, and
-  // the roughness for 32.5 gives 32.5 to float precision.
+  // the roughness for 32.5 (n = 1 / (2 alpha^2) - 1/2) gives 32.5 to float precision.
   EXPECT_EQ(phong_exponent_from_roughness(0.0f), kMaxPhongExponent);
   EXPECT_EQ(phong_exponent_from_roughness(1.0f), 0.0f);
-  EXPECT_NEAR(phong_exponent_from_roughness(static_cast<float>(std::pow(2.0 / 34.5, 0.25))), 32.5f,
+  EXPECT_NEAR(phong_exponent_from_roughness(static_cast<float>(std::pow(0.5 / 33.0, 0.25))), 32.5f,
               1e-3f);
 }
 
 TEST(StressPhongEdgeCases, PointLightOnTheSurfaceAndZeroIntensityLightsAddNothing) {
   const SurfaceResponse surface = surface_with_exponent(32.5f);
-  const double ambient_only = 0.25 * (kRhoD + kKs);
+  // The ambient term alone: I_a times the surface's albedo towards each viewer.
+  const V3f up(0, 1, 0), side = normalize(V3f(0.3f, 1, 0));
+  const float ambient_only = 0.25f * surface.bsdf.albedo(up, up, false, AlbedoScope::all_lobes).x;
+  const float ambient_side = 0.25f * surface.bsdf.albedo(side, up, false, AlbedoScope::all_lobes).x;
+  EXPECT_GT(ambient_only, 0.25f * float(kRhoD));
   Light on_surface;
   on_surface.intensity = 5.0f;
   on_surface.position = V3d(0.0);  // exactly at the hit
@@ -139,8 +144,8 @@ TEST(StressPhongEdgeCases, PointLightOnTheSurfaceAndZeroIntensityLightsAddNothin
   Light dark_bulb_above = dark_bulb;
   dark_bulb_above.position = V3d(0.0, 1.0, 0.0);
   Shading s({on_surface, hair_above, dark_sun, dark_bulb, dark_bulb_above}, 0.25f);
-  EXPECT_FLOAT_EQ(s.at(surface, V3f(0, 1, 0)), static_cast<float>(ambient_only));
-  EXPECT_FLOAT_EQ(s.at(surface, V3f(0.3f, 1, 0), false), static_cast<float>(ambient_only));
+  EXPECT_FLOAT_EQ(s.at(surface, V3f(0, 1, 0)), ambient_only);
+  EXPECT_FLOAT_EQ(s.at(surface, V3f(0.3f, 1, 0), false), ambient_side);
   // Nothing arrives, so no light is worth a shadow ray.
   EXPECT_EQ(s.counters[RayKind::shadow], 0u);
 
@@ -204,8 +209,7 @@ TEST(StressPhongEdgeCases, LightInsideAClosedMeshLightsOnlyItsInside) {
   // the hit, so cos = 1, and the distance d lies between r - err and r (the mesh is inside
   // the sphere). With n = 0 the whole albedo rho_d + k_s = 0.8 * 0.96 + 0.04 scatters
   // uniformly: L = 0.808 / pi * I / d^2.
-  const auto from_inside =
-      render_scene(scene, "shadow", settings, {}, 1);
+  const auto from_inside = render_scene(scene, "shadow", settings, {}, 1);
   const double err = tessellation_max_error(kRadius, kLevel);
   const double albedo = 0.8 * 0.96 + 0.04;
   const double lo = albedo / kPiD * kIntensity / (kRadius * kRadius) * (1.0 - 1e-5);
