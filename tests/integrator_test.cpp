@@ -57,7 +57,6 @@ DiscMeasurement measure_disc(const Image& image) {
 
 // Lit straight from the viewer, a Lambertian sphere's radiance is proportional to
 // cos(theta) = sqrt(1 - r^2) over the projected disc, whose mean is 2/3 of the centre value.
-// The specular lobe at roughness 1 is uniform (n = 0), so it follows the same cosine law.
 TEST(OrthographicDisc, MeanIsTwoThirdsOfCentreInEverySphereMode) {
   const auto integrator = make_integrator("shadow");
   testing::TestSettings settings;
@@ -70,8 +69,8 @@ TEST(OrthographicDisc, MeanIsTwoThirdsOfCentreInEverySphereMode) {
     const DiscMeasurement m = measure_disc(r.image);
     std::printf("disc %-14s centre %.8f  mean/centre %.6f  covered %.0f px\n", mode, m.centre,
                 m.mean / m.centre, m.covered_pixels);
-    // Centre: (rho (1 - F0) + F0) / pi * E with rho = 0.5, F0 = 0.04, E = pi.
-    const double expected_centre = 0.5 * 0.96 + 0.04;
+    // Centre: rho / pi * E with rho = 0.5, E = pi.
+    const double expected_centre = 0.5;
     // Mesh level 6 puts a vertex at the centre; the relative error of the pixel-grid mean is
     // dominated by the silhouette pixels (about 1/401 of the radius).
     EXPECT_NEAR(m.centre, expected_centre, 1e-5 * expected_centre);
@@ -87,8 +86,7 @@ TEST(OrthographicDisc, MeanIsTwoThirdsOfCentreInEverySphereMode) {
 }
 
 // glTF point lights are in candela: a Lambertian plane at distance h straight below a light
-// of intensity I receives E = I / h^2 and, with albedo 1 (diffuse 0.96 plus the uniform
-// 0.04 lobe at roughness 1), reflects L = E / pi.
+// of intensity I receives E = I / h^2 and, with albedo 1, reflects L = E / pi.
 TEST(LightUnits, PointLightIrradianceIsIntensityOverDistanceSquared) {
   SceneDescription scene;
   scene.materials.push_back(lambert_like(1.0f));

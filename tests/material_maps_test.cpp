@@ -212,7 +212,8 @@ TEST(TextureTransform, MapsAKnownUvToAKnownTexel) {
 TEST(TextureFiltering, GrazingCheckerConvergesToItsMean) {
   auto render = [](MipMode mip) {
     SceneDescription s;
-    MaterialDescription m;  // metallic 1: ambient radiance = I_a x base colour
+    // Lambertian: the ambient radiance is I_a x base colour at every angle.
+    MaterialDescription m = testing::lambert_like(1.0f);
     m.base_colour_texture = 0;
     s.materials.push_back(m);
     TextureImage checker;

@@ -32,11 +32,14 @@ inline Light directional_light(V3d direction) {
   return l;
 }
 
+// A pure Lambertian material, f = rho / pi: a dielectric whose specular layer is switched
+// off (KHR_materials_specular's factor 0).
 inline MaterialDescription lambert_like(float rho) {
   MaterialDescription m;
   m.base_colour = C3f(rho, rho, rho);
   m.metallic = 0.0f;
   m.roughness = 1.0f;
+  m.specular = 0.0f;
   return m;
 }
 
