@@ -6,9 +6,9 @@ namespace prism {
 
 void add_scene_options(CLI::App* cmd, SceneOptions* o) {
   cmd->add_option("scene", o->scene_path, "Scene file (.gltf or .glb)")->required();
-  cmd->add_option(
-      "--res", o->resolution,
-      "Image size WIDTHxHEIGHT (default 640x480, or 480 high at the camera's aspect ratio)");
+  cmd->add_option("--res", o->resolution,
+                  "Image size WIDTHxHEIGHT (default 640x480, or 480 high at the camera's aspect "
+                  "ratio or xmag/ymag)");
   add_scene_select_option(cmd, &o->scene);
   cmd->add_option("--camera", o->camera, "Camera name or index (default: the first)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")

@@ -328,6 +328,7 @@ int run(const CompareOptions& o) {
 
   Session session(scene_request(o.scene, SphereDetectionFlags{}), session_options(o.scene));
   print_warnings(o.scene.scene_path, session.warnings());
+  print_warnings(o.scene.scene_path, session.job_warnings(base));
   if (file_reference) {
     const RenderSettings film = session.film(base);
     if (file_reference->image.width != film.width || file_reference->image.height != film.height)

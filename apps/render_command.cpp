@@ -56,6 +56,7 @@ int run(const RenderOptions& o) {
     std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),
                  line.c_str());
   session.check(job);
+  print_warnings(o.scene.scene_path, session.job_warnings(job));
   // Built before the render so that --verbose can describe it and the summary time it.
   double build_seconds = 0.0;
   const RenderScene& built = session.render_scene(job, &build_seconds);

@@ -1,21 +1,106 @@
 #include "renderer/camera.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "renderer/math.h"
 
 namespace prism {
 namespace {
 
-V3f row_axis(const M44d& m, int row) {
-  return V3f(static_cast<float>(m[row][0]), static_cast<float>(m[row][1]),
-             static_cast<float>(m[row][2]));
+V3d row_axis(const M44d& m, int row) {
+  return V3d(m[row][0], m[row][1], m[row][2]).normalized();
+}
+
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", v);
+  return buffer;
+}
+
+// Where the ray o + t d (d unit) enters `box`, or 0 when o is inside it or the ray misses it.
+double entry_distance(const Imath::Box3d& box, const V3d& o, const V3d& d) {
+  double t_in = 0.0, t_out = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0.0) {
+      if (o[i] < box.min[i] || o[i] > box.max[i]) return 0.0;
+      continue;
+    }
+    double t0 = (box.min[i] - o[i]) / d[i], t1 = (box.max[i] - o[i]) / d[i];
+    if (t0 > t1) std::swap(t0, t1);
+    t_in = std::max(t_in, t0);
+    t_out = std::min(t_out, t1);
+  }
+  return t_in <= t_out ? t_in : 0.0;
 }
 
 }  // namespace
 
+V3d camera_position(const CameraDescription& description) {
+  const M44d& m = description.camera_to_world;
+  return V3d(m[3][0], m[3][1], m[3][2]);
+}
+
+Imath::Box3d scene_bounds(const SceneDescription& scene) {
+  std::vector<Imath::Box3d> mesh_bounds(scene.meshes.size());
+  for (size_t i = 0; i < scene.meshes.size(); ++i)
+    for (const Primitive& p : scene.meshes[i].primitives)
+      for (const V3f& v : p.positions) mesh_bounds[i].extendBy(V3d(v));
+  Imath::Box3d bounds;
+  for (const MeshInstance& instance : scene.instances) {
+    if (instance.mesh < 0 || static_cast<size_t>(instance.mesh) >= mesh_bounds.size()) continue;
+    const Imath::Box3d& b = mesh_bounds[static_cast<size_t>(instance.mesh)];
+    if (b.isEmpty()) continue;
+    for (int corner = 0; corner < 8; ++corner) {
+      const V3d p((corner & 1) ? b.max.x : b.min.x, (corner & 2) ? b.max.y : b.min.y,
+                  (corner & 4) ? b.max.z : b.min.z);
+      V3d q;
+      instance.object_to_world.multVecMatrix(p, q);
+      bounds.extendBy(q);
+    }
+  }
+  for (const Sphere& s : scene.spheres) {
+    bounds.extendBy(s.centre - V3d(s.radius));
+    bounds.extendBy(s.centre + V3d(s.radius));
+  }
+  return bounds;
+}
+
+V3d rebasing_origin(const SceneDescription& scene, const CameraDescription& camera) {
+  const V3d eye = camera_position(camera);
+  const Imath::Box3d bounds = scene_bounds(scene);
+  if (bounds.isEmpty()) return eye;
+  V3d origin;
+  for (int i = 0; i < 3; ++i) origin[i] = std::clamp(eye[i], bounds.min[i], bounds.max[i]);
+  // Non-finite bounds (a hostile file's transform) would make every coordinate NaN.
+  return std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z) ? origin
+                                                                                       : eye;
+}
+
+OrthographicFit fit_orthographic(const CameraDescription& description, int width, int height) {
+  OrthographicFit fit;
+  fit.ymag = description.ymag;
+  fit.xmag = description.ymag * static_cast<double>(width) / static_cast<double>(height);
+  // The default resolution rounds 480 * xmag / ymag to whole pixels.
+  if (description.xmag > 0.0 && std::isfinite(description.xmag) && description.ymag > 0.0 &&
+      std::fabs(static_cast<double>(width) -
+                static_cast<double>(height) * description.xmag / description.ymag) <= 0.5) {
+    fit.xmag = description.xmag;
+  } else {
+    fit.xmag_changed = true;
+  }
+  return fit;
+}
+
+std::string describe_fit(const CameraDescription& description, const OrthographicFit& fit) {
+  return "ymag kept, xmag " + number(description.xmag) +
+         (fit.xmag > description.xmag ? " widened to " : " narrowed to ") + number(fit.xmag);
+}
+
 Camera::Camera(const CameraDescription& description, int image_width, int image_height,
-               const V3d& world_origin)
+               const V3d& world_origin, const Imath::Box3f& scene_bounds)
     : description_(description),
       width_(image_width),
       height_(image_height),
@@ -23,52 +108,65 @@ Camera::Camera(const CameraDescription& description, int image_width, int image_
   const M44d& m = description.camera_to_world;
   // glTF forbids scale on camera nodes but files have it; the axes are renormalised so
   // that a scaled camera still sees what its field of view says.
-  right_ = normalize(row_axis(m, 0));
-  up_ = normalize(row_axis(m, 1));
-  forward_ = -normalize(row_axis(m, 2));
-  // Subtracted in double, then rounded: the camera near the shifted frame's origin.
-  origin_ = V3f(V3d(m[3][0], m[3][1], m[3][2]) - world_origin_);
-  // The image's own aspect ratio decides the horizontal extent, so pixels stay square
-  // whatever aspectRatio the file states.
-  const float aspect = static_cast<float>(width_) / static_cast<float>(height_);
+  right_ = row_axis(m, 0);
+  up_ = row_axis(m, 1);
+  forward_ = -row_axis(m, 2);
+  origin_ = V3d(m[3][0], m[3][1], m[3][2]) - world_origin_;
   if (description.projection == Projection::perspective) {
-    half_height_ = static_cast<float>(std::tan(0.5 * description.yfov));
+    // The image's own aspect ratio decides the horizontal extent, so pixels stay square
+    // whatever aspectRatio the file states.
+    half_height_ = std::tan(0.5 * description.yfov);
+    half_width_ = half_height_ * static_cast<double>(width_) / static_cast<double>(height_);
   } else {
-    half_height_ = static_cast<float>(description.ymag);
+    const OrthographicFit fit = fit_orthographic(description, width_, height_);
+    half_width_ = fit.xmag;
+    half_height_ = fit.ymag;
   }
-  half_width_ = half_height_ * aspect;
-}
-
-V3d camera_position(const CameraDescription& description) {
-  const M44d& m = description.camera_to_world;
-  return V3d(m[3][0], m[3][1], m[3][2]);
+  if (!scene_bounds.isEmpty()) {
+    // The margin keeps a surface on the bounds' face, and the origin's rounding to float,
+    // on the far side of the ray's start.
+    const V3d lo(scene_bounds.min), hi(scene_bounds.max);
+    const double size = (hi - lo).length();
+    const double largest = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z),
+                                     std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+    const double margin = 0x1.0p-10 * size + 0x1.0p-20 * largest;
+    if (std::isfinite(margin)) bounds_ = Imath::Box3d(lo - V3d(margin), hi + V3d(margin));
+  }
 }
 
 Ray Camera::generate_ray(float px, float py) const {
-  const float u = (2.0f * px / static_cast<float>(width_) - 1.0f) * half_width_;
-  const float v = (1.0f - 2.0f * py / static_cast<float>(height_)) * half_height_;
-  Ray ray;
+  const double u = (2.0 * px / width_ - 1.0) * half_width_;
+  const double v = (1.0 - 2.0 * py / height_) * half_height_;
+  V3d origin, direction;
   if (description_.projection == Projection::perspective) {
-    ray.origin = origin_;
-    ray.direction = normalize(forward_ + u * right_ + v * up_);
+    origin = origin_;
+    direction = (forward_ + u * right_ + v * up_).normalized();
   } else {
-    ray.origin = origin_ + u * right_ + v * up_;
-    ray.direction = forward_;
+    origin = origin_ + u * right_ + v * up_;
+    direction = forward_;
   }
+  const double advance = bounds_.isEmpty() ? 0.0 : entry_distance(bounds_, origin, direction);
+  Ray ray;
+  ray.origin = V3f(origin + advance * direction);
+  ray.direction = V3f(direction);
   ray.from_camera = true;
   // The pixel's cone, for texture filtering (docs/materials.md): a pixel's width on the
   // image plane at distance 1, seen from the eye along this ray, whose distance to that plane
-  // point is 1 / cos(angle off the axis) = 1 / (direction . forward).
-  const float pixel = 2.0f * half_height_ / static_cast<float>(height_);
-  if (description_.projection == Projection::perspective)
-    ray.cone_spread = pixel * dot(ray.direction, forward_);
-  else
-    ray.cone_width = pixel;
+  // point is 1 / cos(angle off the axis) = 1 / (direction . forward). A ray moved forward
+  // starts with the width the cone has there.
+  const double pixel = 2.0 * half_height_ / height_;
+  if (description_.projection == Projection::perspective) {
+    const double spread = pixel * direction.dot(forward_);
+    ray.cone_spread = static_cast<float>(spread);
+    ray.cone_width = static_cast<float>(spread * advance);
+  } else {
+    ray.cone_width = static_cast<float>(pixel);
+  }
   return ray;
 }
 
 M44d Camera::world_to_camera() const {
-  const V3d position = V3d(origin_) + world_origin_;
+  const V3d position = origin_ + world_origin_;
   M44d camera_to_world(right_.x, right_.y, right_.z, 0.0,  //
                        up_.x, up_.y, up_.z, 0.0,           //
                        -forward_.x, -forward_.y, -forward_.z, 0.0, position.x, position.y,

@@ -2,6 +2,9 @@
 // +Y up), generating one ray per image-plane position.
 #pragma once
 
+#include <string>
+
+#include <Imath/ImathBox.h>
 #include <Imath/ImathMatrix.h>
 
 #include "renderer/geometry/ray.h"
@@ -9,20 +12,51 @@
 
 namespace prism {
 
-// The camera's position in world space: the best world origin for rebasing the scene.
+// The camera's position in world space.
 V3d camera_position(const CameraDescription& description);
+
+// The bounds of the scene's meshes (each instance's object-space box, transformed) and
+// spheres in world space; empty when it has neither.
+Imath::Box3d scene_bounds(const SceneDescription& scene);
+
+// The world point to rebase the scene on for renders from `camera`
+// (GeometryOptions::world_origin): the camera's position clamped into the scene's bounds.
+// Floats are finest near 0, so the origin belongs where the hits are. A camera inside the
+// bounds is its own best origin (everything it sees nearby is rounded finest); a camera
+// outside, however far, would leave every hit with the rounding error, and so the ray
+// offset, of its distance from the camera: 1.6 cm for a sphere 1 km away
+// (docs/accuracy.md, "Precision far from the camera"), while the nearest point of the
+// bounds puts the geometry within its own size of 0.
+V3d rebasing_origin(const SceneDescription& scene, const CameraDescription& camera);
+
+// How an orthographic camera's xmag and ymag fit an image of `width` x `height`. glTF gives
+// both; pixels stay square, so both are honoured only when the image has their ratio (to
+// half a pixel of width, as the default resolution, 480 high at that ratio, has). Otherwise
+// ymag is kept, as a perspective camera keeps yfov, and xmag follows the image.
+struct OrthographicFit {
+  double xmag = 1.0, ymag = 1.0;  // the half extents rendered
+  bool xmag_changed = false;      // the file's xmag was widened or narrowed to fit
+};
+OrthographicFit fit_orthographic(const CameraDescription& description, int width, int height);
+// "ymag kept, xmag 3 widened to 4", for a fit whose xmag changed.
+std::string describe_fit(const CameraDescription& description, const OrthographicFit& fit);
 
 class Camera {
  public:
   // `world_origin` is the world point that the geometry was shifted to (0, 0, 0) by
   // (GeometryOptions::world_origin, EmbreeScene::world_origin()): rays are generated in that
-  // shifted frame, the camera's position subtracted in double, so a camera 1e6 m from the
-  // world's origin still aims its rays to float precision near itself.
+  // shifted frame in double, so a camera 1e6 m from the world's origin still aims its rays
+  // to float precision.
   // Not defaulted on purpose: a camera shifted differently from its geometry renders a
   // wrong image, so RenderScene::camera, which passes the geometry's origin, is the usual
   // way to make one.
+  //
+  // `scene_bounds` (in the shifted frame; EmbreeScene::bounds()): a ray from outside them
+  // starts, moved forward in double, just before it enters them, so that its float origin
+  // is near the geometry rather than near a camera that may stand 1 km away; what lies
+  // before the bounds is empty space. Empty: rays start at the camera.
   Camera(const CameraDescription& description, int image_width, int image_height,
-         const V3d& world_origin);
+         const V3d& world_origin, const Imath::Box3f& scene_bounds = Imath::Box3f());
 
   // A ray through the image-plane position (px, py) in pixels, (0, 0) the top-left corner
   // of the image: a pixel's centre is (x + 0.5, y + 0.5).
@@ -38,9 +72,10 @@ class Camera {
   CameraDescription description_;
   int width_, height_;
   V3d world_origin_;
-  V3f origin_;                      // in the shifted frame (world - world_origin_)
-  V3f right_, up_, forward_;        // orthonormal, in world space
-  float half_width_, half_height_;  // of the image plane at distance 1, or of the view
+  V3d origin_;                       // in the shifted frame (world - world_origin_)
+  V3d right_, up_, forward_;         // orthonormal, in world space
+  double half_width_, half_height_;  // of the image plane at distance 1, or of the view
+  Imath::Box3d bounds_;              // scene_bounds with a margin; empty = no advance
 };
 
 }  // namespace prism

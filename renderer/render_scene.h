@@ -34,9 +34,11 @@ class RenderScene {
               BrdfModel brdf = BrdfModel::gltf);
 
   const EmbreeScene& geometry() const { return geometry_; }
-  // A camera whose rays live in the same shifted frame as the geometry and lights.
+  // A camera whose rays live in the same shifted frame as the geometry and lights, and start
+  // at the geometry's bounds.
   Camera camera(const CameraDescription& description, int image_width, int image_height) const {
-    return Camera(description, image_width, image_height, geometry_.world_origin());
+    return Camera(description, image_width, image_height, geometry_.world_origin(),
+                  geometry_.bounds());
   }
   const std::vector<LightSource>& lights() const { return lights_; }
   // Chooses a light in proportion to its power, for integrators that sample one light per

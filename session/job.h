@@ -66,7 +66,8 @@ struct RenderJob {
   std::string integrator = "whitted";       // a name in integrators/registry.h
   ParameterSettings integrator_parameters;  // any subset of its parameter table
   std::string camera;                       // by name or index; empty = the first
-  // Explicit image size, or (0, 0): 640 x 480, or 480 high at the camera's aspect ratio.
+  // Explicit image size, or (0, 0): 640 x 480, or 480 high at the camera's aspect ratio
+  // (an orthographic camera's xmag / ymag).
   int width = 0, height = 0;
   // Samples and adaptive sampling; its width and height are settled by the session.
   RenderSettings film;
@@ -98,7 +99,10 @@ struct JobCallbacks {
 struct RenderOutput {
   Image image;
   RenderResult result;
-  RenderSettings film;         // as rendered: the resolution settled
+  RenderSettings film;  // as rendered: the resolution settled
+  // About this job, one line each as Session::warnings(), e.g. an orthographic camera whose
+  // xmag was widened to the image's aspect ratio.
+  std::vector<std::string> warnings;
   std::string integrator;      // its registry name
   ParameterValues parameters;  // every parameter of the integrator, as used
   int camera_index = 0;

@@ -171,31 +171,7 @@ Session::Plan Session::plan(const RenderJob& job) const {
                                         : e.what());
   }
   p.camera = find_camera(job.camera);
-  p.film = job.film;
-  if (job.width > 0 || job.height > 0) {
-    if (job.width < 1 || job.height < 1 || job.width > kMaxImageSide || job.height > kMaxImageSide)
-      throw RequestError("res", std::to_string(job.width) + "x" + std::to_string(job.height) +
-                                    ": expected WIDTHxHEIGHT, each 1 to " +
-                                    std::to_string(kMaxImageSide));
-    p.film.width = job.width;
-    p.film.height = job.height;
-  } else {
-    const CameraDescription& camera = scene_.cameras[static_cast<size_t>(p.camera)];
-    p.film.width = 640;
-    p.film.height = 480;
-    if (camera.aspect_ratio > 0.0) {
-      // In double, and bounded before it becomes an int: a file's aspect ratio is not to
-      // be trusted with the size of the film.
-      const double width = std::round(480.0 * camera.aspect_ratio);
-      if (!(width <= kMaxImageSide))
-        throw RequestError("res", "camera '" + camera.name + "' of " + scene_.source_path +
-                                      " has aspect ratio " + format_number(camera.aspect_ratio) +
-                                      ", which would make the image " + format_number(width) +
-                                      " pixels wide (at most " + std::to_string(kMaxImageSide) +
-                                      "): give the resolution explicitly");
-      p.film.width = std::max(1, static_cast<int>(width));
-    }
-  }
+  p.film = film_for(job, p.camera, &p.warnings);
   const uint64_t bytes = film_bytes(p.film, !job.reference_path.empty());
   if (bytes > options_.memory_budget_bytes)
     throw RequestError(
@@ -205,6 +181,57 @@ Session::Plan Session::plan(const RenderJob& job) const {
                    format_number(static_cast<double>(options_.memory_budget_bytes) / (1 << 30)) +
                    " GiB");
   return p;
+}
+
+std::vector<std::string> Session::job_warnings(const RenderJob& job) {
+  add_defaults();
+  std::vector<std::string> warnings;
+  film_for(job, find_camera(job.camera), &warnings);
+  return warnings;
+}
+
+RenderSettings Session::film_for(const RenderJob& job, int camera_index,
+                                 std::vector<std::string>* warnings) const {
+  const CameraDescription& camera = scene_.cameras[static_cast<size_t>(camera_index)];
+  RenderSettings film = job.film;
+  if (job.width > 0 || job.height > 0) {
+    if (job.width < 1 || job.height < 1 || job.width > kMaxImageSide || job.height > kMaxImageSide)
+      throw RequestError("res", std::to_string(job.width) + "x" + std::to_string(job.height) +
+                                    ": expected WIDTHxHEIGHT, each 1 to " +
+                                    std::to_string(kMaxImageSide));
+    film.width = job.width;
+    film.height = job.height;
+  } else {
+    film.width = 640;
+    film.height = 480;
+    // An orthographic camera's aspect is xmag / ymag, as a perspective camera's is its
+    // aspectRatio.
+    const double aspect = camera.projection == Projection::orthographic ? camera.xmag / camera.ymag
+                                                                        : camera.aspect_ratio;
+    if (aspect > 0.0) {
+      // In double, and bounded before it becomes an int: a file's aspect ratio is not to
+      // be trusted with the size of the film.
+      const double width = std::round(480.0 * aspect);
+      if (!(width <= kMaxImageSide))
+        throw RequestError("res", "camera '" + camera.name + "' of " + scene_.source_path +
+                                      " has aspect ratio " + format_number(aspect) +
+                                      ", which would make the image " + format_number(width) +
+                                      " pixels wide (at most " + std::to_string(kMaxImageSide) +
+                                      "): give the resolution explicitly");
+      film.width = std::max(1, static_cast<int>(width));
+    }
+  }
+  if (camera.projection == Projection::orthographic) {
+    const OrthographicFit fit = fit_orthographic(camera, film.width, film.height);
+    if (fit.xmag_changed)
+      warnings->push_back("camera '" + camera.name + "' is orthographic with xmag " +
+                          format_number(camera.xmag) + " and ymag " + format_number(camera.ymag) +
+                          ", a " + format_number(camera.xmag / camera.ymag) +
+                          ":1 view, but the image is " + std::to_string(film.width) + "x" +
+                          std::to_string(film.height) + ": " + describe_fit(camera, fit) +
+                          " so that pixels stay square");
+  }
+  return film;
 }
 
 void Session::check(const RenderJob& job) {
@@ -234,9 +261,10 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     geometry.spheres = job.spheres;
     geometry.robust = job.robust;
     geometry.build_quality = job.build_quality;
-    // Rebased on the camera: rays, hits and lights stay near 0 in float wherever the
-    // scene sits in the world (docs/stress-shading.md, huge coordinates).
-    geometry.world_origin = camera_position(scene_.cameras[static_cast<size_t>(camera)]);
+    // Rebased near the camera and the geometry: hits and lights stay near 0 in float
+    // wherever the scene sits in the world and wherever the camera stands
+    // (docs/stress-shading.md, huge coordinates; docs/accuracy.md, far cameras).
+    geometry.world_origin = rebasing_origin(scene_, scene_.cameras[static_cast<size_t>(camera)]);
     if (!device_) device_ = std::make_shared<EmbreeDevice>();
     built_.scene = std::make_unique<RenderScene>(device_, scene_, geometry, colours,
                                                  Environment(Imath::V3f(job.background)), job.brdf);
@@ -258,6 +286,7 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
   out.integrator = p.integrator->name;
   out.parameters = p.parameters;
   out.film = p.film;
+  out.warnings = p.warnings;
   out.camera_index = p.camera;
   out.camera_name = scene_.cameras[static_cast<size_t>(p.camera)].name;
   const RenderScene& built = render_scene(job, &out.build_seconds);

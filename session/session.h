@@ -8,9 +8,12 @@
 // threads. Each render(job) checks the job, reuses or builds the render scene its geometry
 // choices need, renders on the session's threads and returns the image with its rays,
 // timings and metadata. Rules that used to live in one command alone hold for every caller:
-//   - geometry is rebased on the camera (GeometryOptions::world_origin), so rays, hits and
-//     lights stay near 0 in float wherever the scene sits in the world;
-//   - the resolution is the job's, or 480 high at the camera's aspect ratio, bounded;
+//   - geometry is rebased on the camera's position clamped into the geometry's bounds
+//     (GeometryOptions::world_origin, rebasing_origin in renderer/camera.h), so rays, hits
+//     and lights stay near 0 in float wherever the scene sits in the world and wherever
+//     the camera stands;
+//   - the resolution is the job's, or 480 high at the camera's aspect ratio (an
+//     orthographic camera's xmag / ymag), bounded;
 //   - the film's memory is estimated and checked against the budget before it is made;
 //   - thread count is set once, by the session's task arena.
 #pragma once
@@ -69,6 +72,8 @@ class Session {
     add_defaults();
     return plan(job).film;
   }
+  // What RenderOutput::warnings of `job` will say, without rendering (RequestError as check).
+  std::vector<std::string> job_warnings(const RenderJob& job);
   // The index of the camera `job.camera` names (RequestError "camera" if none).
   int camera_index(const std::string& camera);
   // The render scene a job with these choices renders, built on first use and kept until a
@@ -90,9 +95,14 @@ class Session {
     ParameterValues parameters;
     int camera = 0;
     RenderSettings film;
+    std::vector<std::string> warnings;  // RenderOutput::warnings
   };
   Plan plan(const RenderJob& job) const;
   int find_camera(const std::string& camera) const;
+  // The film of `job` from `camera_index`: the job's resolution or the camera's default,
+  // with the warnings it gives.
+  RenderSettings film_for(const RenderJob& job, int camera_index,
+                          std::vector<std::string>* warnings) const;
   RenderMetadata metadata(const RenderJob& job, const Plan& plan, const Camera& camera,
                           const RenderOutput& output) const;
 
