@@ -1,9 +1,10 @@
-// phong: the lecture's local shading equation (ambient + Lambert + normalised Phong) at the
-// nearest hit of each view ray, plus emission. No shadows, no secondary rays.
+// phong: the lecture's local shading equation (ambient plus each light through the surface's
+// BRDF, glTF's by default) at the nearest hit of each view ray, plus emission. No shadows,
+// no secondary rays.
 //
 // | parameter | type   | default | meaning                                        |
 // | --------- | ------ | ------- | ---------------------------------------------- |
-// | ambient   | number | 0       | ambient radiance I_a, times the surface albedo |
+// | ambient   | number | 0       | uniform radiance I_a, times the surface albedo |
 //
 // The shading itself is integrators/direct.h and integrators/local_shading.h; rays that
 // leave the scene see the scene's environment (--background).

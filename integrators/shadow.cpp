@@ -6,7 +6,7 @@
 //
 // | parameter | type   | default | meaning                                        |
 // | --------- | ------ | ------- | ---------------------------------------------- |
-// | ambient   | number | 0       | ambient radiance I_a, times the surface albedo |
+// | ambient   | number | 0       | uniform radiance I_a, times the surface albedo |
 #include "integrators/direct.h"
 #include "integrators/registry.h"
 

@@ -4,11 +4,13 @@
 // A surface is, by the material mapping (docs/materials.md), a blend of an opaque part and
 // a transmissive dielectric part (weight `transmission`):
 //   - the opaque part reflects a mirror ray when roughness <= kMirrorRoughness, weighted by
-//     Schlick's Fresnel with F0 = k_s (metals tint their reflections);
+//     its specular layer's Schlick Fresnel (metals tint their reflections);
 //   - the dielectric part reflects F and refracts (1 - F) of the light, F from the exact
 //     Fresnel equations with the material's ior; the refracted light takes the base colour
 //     as it enters (KHR_materials_transmission's tint).
-// Both reflections share one reflection ray. Recursion stops at --max-depth.
+// Both reflections share one reflection ray. Recursion stops at --max-depth. The ambient
+// term reaches only the lobes not traced (Bsdf::albedo), and at the depth limit every lobe,
+// so that each lobe's light is counted once.
 //
 // Specialised per tile on the scene's features (shading_flags.h): with no mirror and nothing
 // transmissive it runs the shadow integrator's own code; in an opaque scene it leaves out
