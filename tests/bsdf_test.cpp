@@ -14,6 +14,7 @@
 #include "renderer/shading/bsdf.h"
 #include "renderer/shading/light_sampler.h"
 #include "renderer/shading/lights.h"
+#include "tests/gltf_brdf_reference.h"
 
 namespace prism {
 namespace {
@@ -140,17 +141,21 @@ TEST(Bsdf, ChiSquareRejectsAMismatchedPdf) {
   EXPECT_LT(chi_square_test(sampled, V3f(0, 0, 1), 400000, &claimed), 1e-6);
 }
 
+// The integral of pdf(wo, .) over the upper hemisphere by the midpoint rule in
+// (cos theta, phi), t x p cells.
+double hemisphere_pdf_integral(const Bsdf& bsdf, const V3f& wo, int t_cells, int p_cells) {
+  double total = 0.0;
+  for (int t = 0; t < t_cells; ++t)
+    for (int p = 0; p < p_cells; ++p)
+      total += bsdf.pdf(wo, spherical((t + 0.5) / t_cells, (p + 0.5) * 2 * kPiD / p_cells));
+  return total * (1.0 / t_cells) * (2 * kPiD / p_cells);
+}
+
 TEST(Bsdf, PdfIntegratesToTheNonDeltaShare) {
   const V3f wo = normalize(V3f(0.3f, -0.2f, 0.9f));
   for (float n : {0.5f, 8.0f, 64.0f}) {
     const Bsdf bsdf = phong_bsdf(0.5f, 0.3f, n);
-    // Midpoint rule over the hemisphere in (cos theta, phi): 400 x 800 cells.
-    double total = 0.0;
-    constexpr int kT = 400, kP = 800;
-    for (int t = 0; t < kT; ++t)
-      for (int p = 0; p < kP; ++p)
-        total += bsdf.pdf(wo, spherical((t + 0.5) / kT, (p + 0.5) * 2 * kPiD / kP));
-    total *= (1.0 / kT) * (2 * kPiD / kP);
+    const double total = hemisphere_pdf_integral(bsdf, wo, 400, 800);
     // Below the horizon the Phong lobe about R loses some of its mass: at most 1.
     EXPECT_LE(total, 1.0 + 2e-3) << n;
     if (n <= 0.5f) {
@@ -158,12 +163,7 @@ TEST(Bsdf, PdfIntegratesToTheNonDeltaShare) {
     }
   }
   // No delta lobes: the diffuse pdf alone integrates to 1.
-  const Bsdf diffuse = phong_bsdf(0.7f, 0.0f, 1.0f);
-  double total = 0.0;
-  for (int t = 0; t < 400; ++t)
-    for (int p = 0; p < 400; ++p)
-      total += diffuse.pdf(wo, spherical((t + 0.5) / 400, (p + 0.5) * 2 * kPiD / 400));
-  EXPECT_NEAR(total * (1.0 / 400) * (2 * kPiD / 400), 1.0, 1e-4);
+  EXPECT_NEAR(hemisphere_pdf_integral(phong_bsdf(0.7f, 0.0f, 1.0f), wo, 400, 400), 1.0, 1e-4);
 }
 
 TEST(Bsdf, SampleAgreesWithEvalAndPdfAndEvalIsReciprocal) {
@@ -245,27 +245,6 @@ TEST(Bsdf, MirrorWeightIsSchlick) {
   EXPECT_EQ(0, (bsdf.specular_lobes<false, true>(wo, V3f(0, 0, 1), false, lobes)));
 }
 
-// glTF Appendix B written out independently, in double: the value eval() must give.
-double gltf_brdf_reference(double rho, double metallic, double alpha, const V3f& wo,
-                           const V3f& wi) {
-  const double nl = wi.z, nv = wo.z;
-  if (nl <= 0.0) return 0.0;
-  double hx = wo.x + wi.x, hy = wo.y + wi.y, hz = wo.z + wi.z;
-  const double hl = std::sqrt(hx * hx + hy * hy + hz * hz);
-  hx /= hl, hy /= hl, hz /= hl;
-  const double vh = wo.x * hx + wo.y * hy + wo.z * hz, nh = hz;
-  const double a2 = alpha * alpha;
-  const double denom = nh * nh * (a2 - 1.0) + 1.0;
-  const double d = a2 / (kPiD * denom * denom);
-  const double v =
-      0.5 / (nl * std::sqrt(nv * nv * (1 - a2) + a2) + nv * std::sqrt(nl * nl * (1 - a2) + a2));
-  const double s = std::pow(1.0 - vh, 5.0);
-  const double metal = (rho + (1.0 - rho) * s) * v * d;  // conductor_fresnel
-  const double fr = 0.04 + 0.96 * s;                     // fresnel_mix
-  const double dielectric = (1.0 - fr) * rho / kPiD + fr * v * d;
-  return (1.0 - metallic) * dielectric + metallic * metal;
-}
-
 TEST(Bsdf, GltfBrdfEqualsAppendixB) {
   double worst = 0.0;
   for (float roughness : {0.3f, 0.5f, 0.7f, 1.0f})
@@ -317,12 +296,7 @@ TEST(Bsdf, GgxPdfIntegratesToAtMostOne) {
   const V3f wo = normalize(V3f(0.5f, -0.2f, 0.6f));
   for (float roughness : {0.2f, 0.5f, 1.0f}) {
     const Bsdf bsdf = gltf_bsdf(1.0f, 1.0f, roughness);
-    double total = 0.0;
-    constexpr int kT = 800, kP = 800;
-    for (int t = 0; t < kT; ++t)
-      for (int p = 0; p < kP; ++p)
-        total += bsdf.pdf(wo, spherical((t + 0.5) / kT, (p + 0.5) * 2 * kPiD / kP));
-    total *= (1.0 / kT) * (2 * kPiD / kP);
+    const double total = hemisphere_pdf_integral(bsdf, wo, 800, 800);
     // What the visible normals reflect below the horizon is lost, so at most 1; and at
     // least the lobe's albedo, whose estimator G2 / G1 is at most 1 per sample kept.
     EXPECT_LE(total, 1.0 + 2e-3) << roughness;

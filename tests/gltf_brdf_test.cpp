@@ -9,31 +9,13 @@
 #include <cstdio>
 #include <numbers>
 
+#include "tests/gltf_brdf_reference.h"
 #include "tests/test_scenes.h"
 
 namespace prism {
 namespace {
 
 constexpr double kPiD = std::numbers::pi;
-
-// Appendix B for one channel, written out independently of renderer/shading/: base colour
-// rho, metallic m, alpha = roughness^2, ior 1.5 (F0 0.04), unit vectors about the normal +Y.
-double appendix_b(double rho, double m, double alpha, const V3d& n, const V3d& v, const V3d& l) {
-  const double nl = n.dot(l), nv = n.dot(v);
-  if (nl <= 0.0 || nv <= 0.0) return 0.0;
-  const V3d h = (v + l).normalized();
-  const double vh = v.dot(h), nh = n.dot(h);
-  const double a2 = alpha * alpha;
-  const double denom = nh * nh * (a2 - 1.0) + 1.0;
-  const double d = a2 / (kPiD * denom * denom);
-  const double vis =
-      0.5 / (nl * std::sqrt(nv * nv * (1 - a2) + a2) + nv * std::sqrt(nl * nl * (1 - a2) + a2));
-  const double s = std::pow(1.0 - vh, 5.0);
-  const double metal_brdf = (rho + (1.0 - rho) * s) * vis * d;
-  const double fr = 0.04 + 0.96 * s;
-  const double dielectric_brdf = (1.0 - fr) * rho / kPiD + fr * vis * d;
-  return (1.0 - m) * dielectric_brdf + m * metal_brdf;
-}
 
 // An orthographic camera 10 m from the origin, looking at it 50 degrees from the vertical.
 CameraDescription tilted_ortho_camera(double half_extent) {
@@ -98,8 +80,8 @@ TEST(GltfBrdf, PointLitPlaneEqualsAppendixBAtEveryPixel) {
           const double irradiance = kIntensity / dist2 * l.y;
           for (int ch = 0; ch < 3; ++ch) {
             const double expected =
-                appendix_b(base[ch], c.metallic, double(c.roughness) * c.roughness, V3d(0, 1, 0),
-                           -d, l) *
+                testing::appendix_b_brdf(base[ch], c.metallic, double(c.roughness) * c.roughness,
+                                         V3d(0, 1, 0), -d, l) *
                 irradiance;
             const double got = r.image.pixel(x, y)[ch];
             worst = std::max(worst, std::fabs(got - expected) / expected);
