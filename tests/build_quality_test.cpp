@@ -14,8 +14,10 @@
 
 #include "integrators/registry.h"
 #include "renderer/camera.h"
-#include "scene_passes/scene_defaults.h"
+#include "renderer/geometry/embree_device.h"
+#include "renderer/geometry/sphere_mesh.h"
 #include "scene_io/gltf_loader.h"
+#include "scene_passes/scene_defaults.h"
 #include "tests/test_scenes.h"
 
 namespace prism {
@@ -85,8 +87,38 @@ TEST(BuildQuality, EveryQualityAndLayoutGivesTheSameImage) {
       const testing::Rendered r = render_shadow(scene, options_for(scene, q, compact));
       EXPECT_TRUE(r.image.rgba == reference.image.rgba)
           << to_string(q) << (compact ? " compact" : "");
-      EXPECT_EQ(r.result.rays[RayKind::shadow], reference.result.rays[RayKind::shadow]) << to_string(q);
+      EXPECT_EQ(r.result.rays[RayKind::shadow], reference.result.rays[RayKind::shadow])
+          << to_string(q);
     }
+}
+
+// Each quality reaches Embree's builder for the meshes themselves (rtcSetGeometryBuildQuality,
+// not only the scene's): the BVHs Embree holds for the engine differ in size between every
+// pair of qualities (low: Morton build; medium: binned SAH; high: SAH with spatial splits).
+// (Scene-level quality still changes the BVHs over instances, so a lone mesh is the test.)
+// With the scene's quality alone, low and medium built the meshes identically.
+TEST(BuildQuality, EveryQualityReachesTheMeshBuilds) {
+  // One mesh placed once (81 920 triangles): the only BVH is the one over its triangles.
+  SceneDescription scene;
+  Mesh ball;
+  ball.primitives.push_back(tessellate_sphere(Sphere{V3d(0, 0, 0), 1.0, -1, ""}, 6));
+  scene.meshes.push_back(ball);
+  scene.instances.push_back(MeshInstance{0, M44d(), "ball"});
+  scene.cameras.push_back(testing::ortho_camera_looking_down_z(5.0, 1.2));
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  long long bytes[3] = {0, 0, 0};
+  int i = 0;
+  for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
+    auto device = std::make_shared<EmbreeDevice>();
+    const long long before = device->bytes_in_use();
+    const RenderScene built(device, scene, options_for(scene, q, false), colour);
+    bytes[i++] = device->bytes_in_use() - before;
+    std::printf("build quality %-6s: Embree holds %lld bytes\n", to_string(q), bytes[i - 1]);
+  }
+  EXPECT_GT(bytes[0], 0);
+  EXPECT_NE(bytes[0], bytes[1]);
+  EXPECT_NE(bytes[1], bytes[2]);
+  EXPECT_NE(bytes[0], bytes[2]);
 }
 
 // The meshes are copied, baked and cleaned in parallel, then attached in the scene's order:

@@ -8,6 +8,12 @@ namespace prism {
 EmbreeDevice::EmbreeDevice(const char* config) : device_(rtcNewDevice(config)) {
   if (!device_) throw std::runtime_error("cannot create the Embree device");
   rtcSetDeviceErrorFunction(device_, report, this);
+  rtcSetDeviceMemoryMonitorFunction(device_, monitor, this);
+}
+
+bool EmbreeDevice::monitor(void* device, ssize_t bytes, bool) {
+  static_cast<EmbreeDevice*>(device)->bytes_.fetch_add(bytes, std::memory_order_relaxed);
+  return true;  // never refuse: the session's memory budget is checked before builds
 }
 
 EmbreeDevice::~EmbreeDevice() {

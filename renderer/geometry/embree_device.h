@@ -3,6 +3,7 @@
 // the device alive through their std::shared_ptr, so it is released after the last of them.
 #pragma once
 
+#include <atomic>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -21,6 +22,10 @@ class EmbreeDevice {
   EmbreeDevice& operator=(const EmbreeDevice&) = delete;
 
   RTCDevice get() const { return device_; }
+
+  // Bytes Embree holds on this device now (its memory monitor): BVHs and their build
+  // buffers, not the geometry buffers Prism shares with it.
+  long long bytes_in_use() const { return bytes_.load(std::memory_order_relaxed); }
 
   // Collects the first error Embree reports on the device while it lives, from any thread
   // (Embree reports from the threads of a parallel build). Embree errors carry no scene, so
@@ -45,8 +50,10 @@ class EmbreeDevice {
 
  private:
   static void report(void* device, RTCError code, const char* message);
+  static bool monitor(void* device, ssize_t bytes, bool post);
 
   RTCDevice device_ = nullptr;
+  std::atomic<long long> bytes_{0};
   mutable std::mutex mutex_;
   std::vector<ErrorWatch*> watches_;
 };

@@ -370,6 +370,9 @@ unsigned EmbreeScene::attach_triangles(RTCScene scene, const PreparedMesh& mesh,
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
                              3 * sizeof(uint32_t), mesh.indices.size() / 3);
   if (filter) attach_surface_filter(g, filter);
+  // Embree builds a triangle mesh at its own quality, not the scene's: without this,
+  // --build-quality low and high would both build meshes at medium.
+  rtcSetGeometryBuildQuality(g, build_quality_);
   rtcCommitGeometry(g);
   const unsigned id = rtcAttachGeometry(scene, g);
   rtcReleaseGeometry(g);
