@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "apps/batch_command.h"
 #include "apps/compare_command.h"
 #include "apps/diff_command.h"
 #include "apps/info_command.h"
@@ -21,6 +22,8 @@ int main(int argc, char** argv) {
   CLI::App* compare = prism::add_compare_command(app, &compare_options);
   prism::InfoOptions info_options;
   CLI::App* info = prism::add_info_command(app, &info_options);
+  prism::BatchCommandOptions batch_options;
+  CLI::App* batch = prism::add_batch_command(app, &batch_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -36,6 +39,7 @@ int main(int argc, char** argv) {
                  : diff->parsed()    ? "diff "
                  : compare->parsed() ? "compare "
                  : info->parsed()    ? "info "
+                 : batch->parsed()   ? "batch "
                                      : "");
     return 2;
   }
@@ -43,5 +47,6 @@ int main(int argc, char** argv) {
   if (diff->parsed()) return prism::run_diff(diff_options);
   if (compare->parsed()) return prism::run_compare(compare_options);
   if (info->parsed()) return prism::run_info(info_options);
+  if (batch->parsed()) return prism::run_batch(batch_options);
   return 2;
 }

@@ -29,10 +29,13 @@ std::string ray_summary(const RayCounters& rays) {
   return text + "total " + with_commas(rays.total());
 }
 
-int run(const RenderOptions& o) {
-  const auto wall_start = std::chrono::steady_clock::now();
+}  // namespace
+
+RenderRequest render_request(const RenderOptions& o) {
+  RenderRequest r;
   // Everything that needs no file first, so a typo costs nothing.
-  RenderJob job = base_job(o.scene);
+  RenderJob& job = r.job;
+  job = base_job(o.scene);
   job.integrator = parse_integrator_option(o.integrator, "--integrator").name;
   job.spheres = parse_spheres_option(o.spheres, "--spheres");
   job.build_quality = parse_choice<BuildQuality>(o.build_quality, "--build-quality");
@@ -45,12 +48,24 @@ int run(const RenderOptions& o) {
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
   job.reference_path = o.reference_path;
-  const OutputFiles files{o.output_path, o.preview_path, o.sample_count_path,
-                          o.half ? ExrPixelType::half : ExrPixelType::float32};
-  check_output_files(files, o.scene.scene_path);
-  const SceneRequest request = scene_request(o.scene, o.sphere_detection);
+  r.files = OutputFiles{o.output_path, o.preview_path, o.sample_count_path,
+                        o.half ? ExrPixelType::half : ExrPixelType::float32};
+  r.scene = scene_request(o.scene, o.sphere_detection);
+  r.session = session_options(o.scene);
+  return r;
+}
 
-  Session session(request, session_options(o.scene));
+namespace {
+
+int run(const RenderOptions& o) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const RenderRequest r = render_request(o);
+  const RenderJob& job = r.job;
+  const OutputFiles& files = r.files;
+  const SceneRequest& request = r.scene;
+  check_output_files(files, o.scene.scene_path);
+
+  Session session(request, r.session);
   print_warnings(o.scene.scene_path, session.warnings());
   for (const std::string& line : session.sphere_detection_report())
     std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/command_line.h"
+#include "session/output_files.h"
 
 namespace prism {
 
@@ -30,6 +31,18 @@ struct RenderOptions {
   bool quiet = false;
   bool verbose = false;
 };
+
+// What a `prism render` command line asks for, checked (UsageError or RequestError naming the
+// option): the scene to load, the session, the job and its files (their paths are not
+// checked here: a batch's may still hold placeholders; check_output_files does). `prism batch` turns each
+// job of a job file into the same, so both accept and refuse exactly the same options.
+struct RenderRequest {
+  SceneRequest scene;
+  SessionOptions session;
+  RenderJob job;
+  OutputFiles files;
+};
+RenderRequest render_request(const RenderOptions& options);
 
 // Adds the `render` subcommand to `app`, filling `options` when it is parsed.
 CLI::App* add_render_command(CLI::App& app, RenderOptions* options);

@@ -73,7 +73,11 @@ V3d rebasing_origin(const SceneDescription& scene, const CameraDescription& came
   const Imath::Box3d bounds = scene_bounds(scene);
   if (bounds.isEmpty()) return eye;
   V3d origin;
-  for (int i = 0; i < 3; ++i) origin[i] = std::clamp(eye[i], bounds.min[i], bounds.max[i]);
+  const V3d size = bounds.size();
+  if (std::max({size.x, size.y, size.z}) <= kSharedOriginExtent)
+    origin = bounds.center();
+  else
+    for (int i = 0; i < 3; ++i) origin[i] = std::clamp(eye[i], bounds.min[i], bounds.max[i]);
   // Non-finite bounds (a hostile file's transform) would make every coordinate NaN.
   return std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z) ? origin
                                                                                        : eye;

@@ -182,6 +182,9 @@ struct CameraDescription {
 
 struct SceneDescription {
   std::string source_path;
+  // Every file the scene was read from: source_path first, then its buffers and images. What
+  // a cache must hash to know whether a render of the scene is still up to date.
+  std::vector<std::string> source_files;
   std::vector<Mesh> meshes;
   std::vector<MeshInstance> instances;
   std::vector<Sphere> spheres;
@@ -191,5 +194,8 @@ struct SceneDescription {
   std::vector<CameraDescription> cameras;
   std::vector<std::string> warnings;  // for the user: skipped primitives, defaults added, ...
 };
+
+// Bytes the description's arrays hold (geometry, texels; not the small per-object fields).
+uint64_t description_bytes(const SceneDescription& scene);
 
 }  // namespace prism

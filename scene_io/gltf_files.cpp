@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
@@ -143,6 +144,14 @@ std::string FileGate::admit(const std::string& uri, const std::string& element,
   const std::string token = "prism-file-" + std::to_string(admitted_.size());
   admitted_[token] = Admitted{uri, resolved, element, exact, max_bytes};
   return token;
+}
+
+std::vector<std::string> FileGate::admitted_paths() const {
+  std::vector<std::string> paths;
+  for (const auto& [token, a] : admitted_) paths.push_back(a.path.string());
+  std::sort(paths.begin(), paths.end());
+  paths.erase(std::unique(paths.begin(), paths.end()), paths.end());
+  return paths;
 }
 
 std::string FileGate::original_uri(const std::string& token) const {

@@ -43,6 +43,8 @@ class FileGate {
                     std::optional<std::size_t> exact, std::size_t max_bytes);
 
   std::size_t admitted() const { return admitted_.size(); }
+  // The canonical paths of the admitted files, sorted: what a load read besides the file.
+  std::vector<std::string> admitted_paths() const;
   // The URI a token stands for; any other text unchanged.
   std::string original_uri(const std::string& token) const;
 

@@ -1114,6 +1114,8 @@ SceneDescription load(const std::string& path, const LoadOptions& options) {
   apply_sparse_accessors(model, path);
 
   Converter(model, path, options.scene, scene).convert();
+  scene.source_files.push_back(path);
+  for (const std::string& file : gate.admitted_paths()) scene.source_files.push_back(file);
   return scene;
 }
 

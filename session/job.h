@@ -6,10 +6,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <tbb/task_arena.h>
 
 #include "integrators/parameters.h"
 #include "renderer/geometry/embree_scene.h"
@@ -51,6 +54,9 @@ struct SceneRequest {
 
 struct SessionOptions {
   int threads = 0;  // worker threads for every build and render; 0 = every core
+  // Several sessions may share one task arena (a batch bounds its total thread count so);
+  // null: the session makes its own of `threads` threads.
+  std::shared_ptr<tbb::task_arena> arena;
   // One budget for what a hostile file or an absurd option can make Prism allocate: the
   // loader charges geometry, texels and copies to it (LoadOptions::memory_limit), and a
   // render's film and sample buffers are estimated and checked against it before they are

@@ -84,13 +84,16 @@ bool parse_resolution(const std::string& text, int* width, int* height) {
 Session::Session(const SceneRequest& request, const SessionOptions& options)
     : request_(request),
       options_(options),
-      arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {
+      arena_(options.arena
+                 ? options.arena
+                 : std::make_shared<tbb::task_arena>(
+                       options.threads > 0 ? options.threads : int{tbb::task_arena::automatic})) {
   const auto start = Clock::now();
   LoadOptions load;
   load.allow_external_paths = request.allow_external_paths;
   load.scene = request.scene;
   load.memory_limit = static_cast<std::size_t>(options.memory_budget_bytes);
-  arena_.execute([&] {
+  arena_->execute([&] {
     try {
       scene_ = load_gltf(request.path, load);
     } catch (const SceneSelectionError& e) {
@@ -117,7 +120,13 @@ Session::Session(const SceneRequest& request, const SessionOptions& options)
 
 Session::~Session() {
   // The render scene's Embree objects are released on the session's threads too.
-  arena_.execute([&] { built_.scene.reset(); });
+  arena_->execute([&] { built_.scene.reset(); });
+}
+
+uint64_t Session::memory_bytes() const {
+  uint64_t bytes = description_bytes(scene_);
+  if (device_) bytes += static_cast<uint64_t>(std::max(0LL, device_->bytes_in_use()));
+  return bytes;
 }
 
 void Session::add_defaults() {
@@ -248,14 +257,18 @@ void Session::check(const RenderJob& job) {
 }
 
 const RenderScene& Session::render_scene(const RenderJob& job, double* build_seconds) {
-  const int camera = camera_index(job.camera);
+  // Rebased per scene, or per camera for a scene too large to share one origin
+  // (rebasing_origin): jobs from every camera of a small scene share one build.
+  const V3d origin =
+      rebasing_origin(scene_, scene_.cameras[static_cast<size_t>(camera_index(job.camera))]);
   auto key = std::make_tuple(to_string(job.spheres), job.robust, job.build_quality,
-                             job.working_space, job.background, camera, job.brdf);
+                             job.working_space, job.background,
+                             std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
   if (built_.scene && built_.key == key) return *built_.scene;
   const ColourPipeline& colours = colour(job.working_space);
   const auto start = Clock::now();
-  arena_.execute([&] {
+  arena_->execute([&] {
     built_.scene.reset();  // freed first: two BVHs at once would double the peak memory
     GeometryOptions geometry;
     geometry.spheres = job.spheres;
@@ -264,7 +277,7 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     // Rebased near the camera and the geometry: hits and lights stay near 0 in float
     // wherever the scene sits in the world and wherever the camera stands
     // (docs/stress-shading.md, huge coordinates; docs/accuracy.md, far cameras).
-    geometry.world_origin = rebasing_origin(scene_, scene_.cameras[static_cast<size_t>(camera)]);
+    geometry.world_origin = origin;
     if (!device_) device_ = std::make_shared<EmbreeDevice>();
     built_.scene = std::make_unique<RenderScene>(device_, scene_, geometry, colours,
                                                  Environment(Imath::V3f(job.background)), job.brdf);
@@ -308,7 +321,7 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
       if (callbacks.pass_error) callbacks.pass_error(pass);
     };
   }
-  arena_.execute([&] {
+  arena_->execute([&] {
     out.result = prism::render(*integrator, RenderContext{built, camera, p.film}, &out.image,
                                render_callbacks);
   });

@@ -18,6 +18,7 @@
 //   - thread count is set once, by the session's task arena.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -81,11 +82,14 @@ class Session {
   // `build_seconds` receives the time spent building it now (0 when reused).
   const RenderScene& render_scene(const RenderJob& job, double* build_seconds = nullptr);
   const ColourPipeline& colour(WorkingSpace space);
+  // Bytes the session holds: the scene description (geometry, texels) and the BVH built
+  // for it, as Embree reports it. What a cache of sessions weighs against its budget.
+  uint64_t memory_bytes() const;
 
   // Runs `f` on the session's worker threads, within its thread limit.
   template <typename F>
   decltype(auto) execute(F&& f) {
-    return arena_.execute(std::forward<F>(f));
+    return arena_->execute(std::forward<F>(f));
   }
 
  private:
@@ -112,13 +116,14 @@ class Session {
   std::vector<std::string> sphere_report_;
   bool defaults_added_ = false;
   double load_seconds_ = 0.0;
-  tbb::task_arena arena_;
+  std::shared_ptr<tbb::task_arena> arena_;
   // One Embree device for every render scene the session builds.
   std::shared_ptr<EmbreeDevice> device_;
   std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
   // The render scene kept, with the choices it was built for.
   struct BuiltScene {
-    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, int, BrdfModel> key;
+    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, std::array<double, 3>, BrdfModel>
+        key;
     std::unique_ptr<RenderScene> scene;
   };
   BuiltScene built_;

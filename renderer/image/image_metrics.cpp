@@ -99,6 +99,20 @@ ImageError compare_images(const Image& a, const Image& b) {
   return e;
 }
 
+std::optional<std::string> read_exr_attribute(const std::string& path, const std::string& key) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+  if (!in) {
+    OIIO::geterror();  // cleared, or the next OpenImageIO call would report it
+    return std::nullopt;
+  }
+  if (std::string(in->format_name()) != "openexr") return std::nullopt;
+  const OIIO::ParamValue* p = in->spec().find_attribute("prism:" + key, OIIO::TypeDesc::STRING);
+  if (!p) return std::nullopt;
+  return std::string(p->get_ustring().string());
+}
+
 Image read_exr(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");

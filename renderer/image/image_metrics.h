@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "renderer/image/image.h"
@@ -44,5 +45,10 @@ ImageError compare_images(const Image& a, const Image& b);
 // One channel is grey (R = G = B), a missing alpha is 1. Throws std::runtime_error
 // "<path>: <reason>" on one line when the file cannot be read.
 Image read_exr(const std::string& path);
+
+// The string attribute `prism:<key>` of an EXR's header (written from RenderMetadata::extra),
+// or std::nullopt when the file is missing, unreadable, not an EXR or lacks it. Reads the
+// header only.
+std::optional<std::string> read_exr_attribute(const std::string& path, const std::string& key);
 
 }  // namespace prism

@@ -1,0 +1,307 @@
+#include "apps/batch_command.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/batch_file.h"
+#include "apps/command_line.h"
+#include "renderer/version.h"
+#include "session/batch.h"
+
+namespace prism {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_stop_signal(int signal) {
+  g_stop_signal.store(signal);
+}
+
+std::string gib(uint64_t bytes) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g GiB", static_cast<double>(bytes) / (1 << 30));
+  return buffer;
+}
+
+// "K/N", 0 <= K < N, or a UsageError.
+void parse_shard(const std::string& text, int* shard, int* shards) {
+  int k = 0, n = 0;
+  char slash = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &k, &slash, &n, &extra) != 3 || slash != '/' || n < 1 ||
+      k < 0 || k >= n)
+    throw UsageError("--shard " + text + ": expected K/N with 0 <= K < N (e.g. " +
+                     "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)");
+  *shard = k;
+  *shards = n;
+}
+
+// The deepest folder holding every output: where the report goes by default.
+fs::path common_folder(const std::vector<BatchJob>& jobs, const fs::path& fallback) {
+  std::optional<fs::path> common;
+  for (const BatchJob& job : jobs) {
+    const fs::path folder = fs::absolute(job.files.exr).lexically_normal().parent_path();
+    if (!common) {
+      common = folder;
+      continue;
+    }
+    fs::path shared;
+    for (auto a = common->begin(), b = folder.begin();
+         a != common->end() && b != folder.end() && *a == *b; ++a, ++b)
+      shared /= *a;
+    common = shared;
+  }
+  return common && !common->empty() ? *common : fallback;
+}
+
+json record_json(const JobRecord& r) {
+  json j = {{"index", r.index},
+            {"job", r.label},
+            {"name", r.name},
+            {"scene", r.scene},
+            {"camera", r.camera},
+            {"integrator", r.integrator},
+            {"spp", r.spp},
+            {"width", r.width},
+            {"height", r.height},
+            {"output", r.output},
+            {"status", to_string(r.status)},
+            {"error", r.error},
+            {"seconds", r.seconds},
+            {"render_seconds", r.render_seconds},
+            {"write_seconds", r.write_seconds},
+            {"load_seconds", r.load_seconds},
+            {"build_seconds", r.build_seconds},
+            {"rays", r.rays},
+            {"rays_per_second", r.rays_per_second},
+            {"scene_bytes", r.scene_bytes}};
+  if (r.reference_error)
+    j["reference"] = {{"rmse", r.reference_error->rmse}, {"relmse", r.reference_error->relmse}};
+  return j;
+}
+
+void write_report(const fs::path& path, const json& report) {
+  const fs::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary);
+    out << report.dump(2) << "\n";
+    if (!out) throw std::runtime_error(temporary.string() + ": cannot be written");
+  }
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) throw std::runtime_error(path.string() + ": " + error.message());
+}
+
+void print_table(const std::vector<JobRecord>& records) {
+  std::printf("%-5s %-9s %9s %10s  %-s\n", "job", "status", "seconds", "Mrays/s", "what");
+  for (const JobRecord& r : records)
+    std::printf("%-5d %-9s %9.3f %10.3g  %s -> %s%s%s\n", r.index, to_string(r.status), r.seconds,
+                r.rays_per_second / 1e6, r.label.c_str(), r.output.c_str(),
+                r.error.empty() ? "" : ": ", r.error.c_str());
+}
+
+// One line on a terminal: the jobs done and the running job's tiles.
+class BatchProgress {
+ public:
+  BatchProgress(bool enabled, size_t jobs)
+      : terminal_(enabled && isatty(STDERR_FILENO)), enabled_(enabled), jobs_(jobs) {}
+  void started(const BatchJob& job) {
+    std::lock_guard lock(mutex_);
+    running_ = job.label();
+  }
+  void tiles(int done, int total) {
+    if (!terminal_ || total <= 0) return;
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) return;
+    const auto now = Clock::now();
+    if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    draw(static_cast<double>(done) / total);
+  }
+  void finished(const JobRecord& r) {
+    std::lock_guard lock(mutex_);
+    ++done_;
+    if (!enabled_) return;
+    if (terminal_) std::fprintf(stderr, "\r\033[K");
+    std::fprintf(stderr, "prism: [%zu/%zu] %s %s %.3f s%s%s\n", done_, jobs_, to_string(r.status),
+                 r.label.c_str(), r.seconds, r.error.empty() ? "" : ": ", r.error.c_str());
+  }
+  void finish() {
+    if (terminal_) std::fprintf(stderr, "\r\033[K");
+  }
+
+ private:
+  void draw(double fraction) {
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    const double overall = (static_cast<double>(done_) + fraction) / static_cast<double>(jobs_);
+    const double eta = overall > 0.0 ? elapsed * (1.0 - overall) / overall : 0.0;
+    std::fprintf(stderr, "\r\033[K[%zu/%zu jobs] %3d%%  ETA %.0fs  %s %3d%%", done_, jobs_,
+                 static_cast<int>(overall * 100.0), eta, running_.c_str(),
+                 static_cast<int>(fraction * 100.0));
+    std::fflush(stderr);
+  }
+  bool terminal_, enabled_;
+  size_t jobs_, done_ = 0;
+  std::string running_;
+  std::mutex mutex_;
+  Clock::time_point start_ = Clock::now(), last_{};
+};
+
+int run(const BatchCommandOptions& o) {
+  const auto wall_start = Clock::now();
+  int shard = 0, shards = 1;
+  if (!o.shard.empty()) parse_shard(o.shard, &shard, &shards);
+  JobFile file = read_job_file(o.job_file);
+  for (const JobFileError& e : file.errors)
+    std::fprintf(stderr, "prism: error: %s: %s\n", o.job_file.c_str(), e.describe().c_str());
+  if (!file.errors.empty() && (file.specs.empty() || !o.keep_going)) {
+    if (file.jobs > 0)
+      std::fprintf(stderr, "prism: %zu of %d jobs invalid: nothing rendered%s\n",
+                   file.errors.size(), file.jobs,
+                   file.specs.empty() ? "" : " (--keep-going renders the rest)");
+    return 2;
+  }
+
+  BatchOptions options;
+  options.threads = o.threads;
+  options.force = o.force;
+  options.memory_budget_bytes = static_cast<uint64_t>(o.memory_budget_gib * double(1 << 30));
+  options.load_memory_limit_bytes = static_cast<uint64_t>(o.memory_limit_gib * double(1 << 30));
+  Batch batch(std::move(file.specs), options);
+  std::vector<BatchJob> jobs;
+  try {
+    batch.plan();
+    jobs = batch.shard(shard, shards);
+  } catch (const BatchError& e) {
+    std::fprintf(stderr, "prism: error: %s: %s\n", o.job_file.c_str(), e.what());
+    return 2;
+  }
+
+  if (o.dry_run) {
+    for (const BatchJob& job : jobs) {
+      const RenderJob& r = job.spec.render;
+      const std::string res = r.width > 0 ? std::to_string(r.width) + "x" + std::to_string(r.height)
+                                          : std::string("default");
+      const char* state = !job.error.empty()      ? "fails"
+                          : batch.up_to_date(job) ? "up to date"
+                                                  : "to render";
+      std::printf("%4d  %s  %s  camera %s  %s  %d spp  %s  -> %s  [%s%s%s]\n", job.index,
+                  job.label().c_str(), job.spec.scene.path.c_str(), job.camera_label.c_str(),
+                  r.integrator.c_str(), r.film.spp, res.c_str(), job.files.exr.c_str(), state,
+                  job.error.empty() ? "" : ": ", job.error.c_str());
+    }
+    std::printf("%zu renders%s\n", jobs.size(), shards > 1 ? (" in shard " + o.shard).c_str() : "");
+    return 0;
+  }
+
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
+  BatchProgress progress(!o.quiet, jobs.size());
+  BatchCallbacks callbacks;
+  callbacks.job_started = [&](const BatchJob& job) { progress.started(job); };
+  callbacks.progress = [&](const BatchJob&, int done, int total) { progress.tiles(done, total); };
+  callbacks.job_finished = [&](const JobRecord& r) { progress.finished(r); };
+  callbacks.stop = [] { return g_stop_signal.load() != 0; };
+  std::vector<JobRecord> records = batch.run(jobs, callbacks);
+  progress.finish();
+  // Jobs the file got wrong, kept going past, are failures of this batch too.
+  for (const JobFileError& e : file.errors) {
+    JobRecord r;
+    r.index = -1;
+    r.label = "jobs[" + std::to_string(e.job) + "] '" + e.name + "'";
+    r.name = e.name;
+    r.status = JobStatus::failed;
+    r.error = (e.field.empty() ? "" : e.field + ": ") + e.message;
+    records.push_back(r);
+  }
+
+  const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  size_t counts[4] = {};
+  double job_seconds = 0.0;
+  for (const JobRecord& r : records) {
+    ++counts[static_cast<size_t>(r.status)];
+    job_seconds += r.render_seconds + r.write_seconds + r.load_seconds + r.build_seconds;
+  }
+  json report = {{"version", 1},
+                 {"prism", std::string(kVersion) + " " + kBuildCommit},
+                 {"job_file", fs::absolute(o.job_file).lexically_normal().string()},
+                 {"shard", std::to_string(shard) + "/" + std::to_string(shards)},
+                 {"wall_seconds", wall},
+                 {"scenes_loaded", batch.scenes().loads()},
+                 {"scenes_evicted", batch.scenes().evictions()},
+                 {"jobs", json::array()}};
+  for (const JobRecord& r : records) report["jobs"].push_back(record_json(r));
+  for (const EnumName<JobStatus>& s : kJobStatusNames)
+    report["counts"][s.name] = counts[static_cast<size_t>(s.value)];
+  fs::path report_path = o.report;
+  if (report_path.empty()) {
+    report_path = common_folder(jobs, fs::absolute(o.job_file).parent_path()) /
+                  (shards > 1 ? "batch-report-" + std::to_string(shard) + "-of-" +
+                                    std::to_string(shards) + ".json"
+                              : std::string("batch-report.json"));
+  }
+  write_report(report_path, report);
+
+  if (!o.quiet) {
+    print_table(records);
+    std::printf(
+        "%zu rendered, %zu skipped, %zu failed, %zu cancelled in %.3f s (jobs' own load, build, "
+        "render and write %.3f s); %d scene loads, %d evicted, %s kept\n",
+        counts[0], counts[1], counts[2], counts[3], wall, job_seconds, batch.scenes().loads(),
+        batch.scenes().evictions(), gib(batch.scenes().bytes()).c_str());
+    std::printf("report       %s\n", report_path.c_str());
+  }
+  if (const int signal = g_stop_signal.load()) {
+    std::fprintf(stderr,
+                 "prism: stopped by signal %d; resume with the same command: prism batch %s\n",
+                 signal, o.job_file.c_str());
+    return 128 + signal;
+  }
+  return counts[static_cast<size_t>(JobStatus::failed)] > 0 ? 1 : 0;
+}
+
+}  // namespace
+
+CLI::App* add_batch_command(CLI::App& app, BatchCommandOptions* o) {
+  CLI::App* cmd = app.add_subcommand(
+      "batch", "Render every job of a job file (docs/batch.md), each scene loaded once");
+  cmd->add_option("jobs", o->job_file, "Job file (.json, docs/batch.md)")->required();
+  cmd->add_flag("--dry-run", o->dry_run, "Print the renders the file expands into and stop");
+  cmd->add_flag("--force", o->force, "Render jobs whose outputs are up to date too");
+  cmd->add_flag("--keep-going", o->keep_going,
+                "Render the valid jobs of a file that has invalid ones (they count as failed)");
+  cmd->add_option("--threads", o->threads, "Worker threads for the whole batch (0 = all cores)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  cmd->add_option("--memory-budget", o->memory_budget_gib,
+                  "GiB the scenes kept loaded between jobs may hold (least recently used "
+                  "dropped first)")
+      ->check(CLI::Range(0.0, 1024.0))
+      ->capture_default_str();
+  add_memory_limit_option(cmd, &o->memory_limit_gib);
+  cmd->add_option("--shard", o->shard,
+                  "K/N: render only shard K (0-based) of N, balanced by estimated cost (Slurm "
+                  "arrays, Kubernetes indexed jobs)");
+  cmd->add_option("--report", o->report,
+                  "Where to write the JSON report (default: batch-report.json in the folder "
+                  "holding every output)");
+  cmd->add_flag("-q,--quiet", o->quiet, "No progress and no summary table");
+  return cmd;
+}
+
+int run_batch(const BatchCommandOptions& options) {
+  return run_reporting_errors([&] { return run(options); });
+}
+
+}  // namespace prism

@@ -1,0 +1,371 @@
+#include "session/batch.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <numeric>
+
+#include <tbb/task_group.h>
+
+#include "renderer/image/image_metrics.h"
+
+namespace prism {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A camera's name as a file-name part: what is not a letter, digit, '.', '-' or '_' becomes
+// '_', so a name with a slash cannot reach another folder.
+std::string file_name_part(const std::string& text) {
+  std::string out;
+  for (char c : text)
+    out +=
+        (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') ? c : '_';
+  return out;
+}
+
+// Relative cost per sample of each integrator, for balancing shards: what a camera ray sets
+// off (shadow rays, reflections) on a typical scene.
+double integrator_cost(const std::string& integrator) {
+  if (integrator == "phong") return 1.0;
+  if (integrator == "shadow") return 1.5;
+  return 2.5;
+}
+
+std::string substitute(const std::string& pattern, const std::map<std::string, std::string>& values,
+                       const std::string& where) {
+  std::string out;
+  size_t i = 0;
+  while (i < pattern.size()) {
+    const size_t open = pattern.find('{', i);
+    if (open == std::string::npos) {
+      out += pattern.substr(i);
+      break;
+    }
+    const size_t close = pattern.find('}', open);
+    if (close == std::string::npos)
+      throw BatchError(where + ": " + pattern + ": '{' without a closing '}'");
+    const std::string name = pattern.substr(open + 1, close - open - 1);
+    const auto it = values.find(name);
+    if (it == values.end())
+      throw BatchError(where + ": " + pattern + ": no placeholder {" + name +
+                       "} (there are {scene}, {camera}, {integrator}, {spp} and {job})");
+    out += pattern.substr(i, open - i) + it->second;
+    i = close + 1;
+  }
+  return out;
+}
+
+std::string same_file_key(const std::string& path) {
+  std::error_code error;
+  const fs::path p = fs::weakly_canonical(path, error);
+  return error ? fs::absolute(path).lexically_normal().string() : p.string();
+}
+
+}  // namespace
+
+std::string BatchJob::label() const {
+  std::string text = "jobs[" + std::to_string(spec.file_index) + "] '" + spec.name + "'";
+  std::string parts = spec.variant;
+  if (spec.every_camera) parts = "camera " + camera_label + (parts.empty() ? "" : ", " + parts);
+  return parts.empty() ? text : text + " (" + parts + ")";
+}
+
+struct Batch::PendingWrite {
+  tbb::task_group group;
+  std::shared_ptr<const SceneCache::Entry> scene;  // keeps its colour pipelines alive
+  RenderOutput output;
+  OutputFiles files;
+  const ColourPipeline* colour = nullptr;
+  size_t slot = 0;
+  std::string error;
+  double seconds = 0.0;
+};
+
+Batch::Batch(std::vector<BatchJobSpec> specs, const BatchOptions& options)
+    : specs_(std::move(specs)),
+      options_(options),
+      arena_(std::make_shared<tbb::task_arena>(
+          options.threads > 0 ? options.threads : int{tbb::task_arena::automatic})) {
+  SessionOptions session;
+  session.threads = options.threads;
+  session.arena = arena_;
+  session.memory_budget_bytes = options.load_memory_limit_bytes;
+  cache_ = std::make_unique<SceneCache>(options.memory_budget_bytes, session);
+}
+
+Batch::~Batch() {
+  if (pending_) arena_->execute([&] { pending_->group.wait(); });
+}
+
+const std::vector<BatchJob>& Batch::plan() {
+  if (planned_done_) return planned_;
+  std::map<std::string, std::string> written;  // file -> the job writing it
+  for (const BatchJobSpec& spec : specs_) {
+    std::vector<std::pair<std::string, std::string>> cameras;  // (render.camera, label)
+    std::string error;
+    if (spec.every_camera) {
+      const auto entry = cache_->get(spec.scene);
+      if (!entry->session) {
+        error = entry->error;
+        cameras.push_back({"", "all"});
+      } else {
+        const auto& list = entry->session->scene().cameras;
+        std::map<std::string, int> uses;
+        for (const auto& c : list) ++uses[file_name_part(c.name)];
+        for (size_t i = 0; i < list.size(); ++i) {
+          const std::string name = file_name_part(list[i].name);
+          cameras.push_back({std::to_string(i),
+                             name.empty() || uses[name] > 1 ? "camera" + std::to_string(i) : name});
+        }
+      }
+    } else {
+      cameras.push_back({spec.render.camera, spec.render.camera.empty()
+                                                 ? "default"
+                                                 : file_name_part(spec.render.camera)});
+    }
+    for (const auto& [camera, label] : cameras) {
+      BatchJob job;
+      job.index = static_cast<int>(planned_.size());
+      job.spec = spec;
+      job.spec.render.camera = camera;
+      job.camera_label = label;
+      job.error = error;
+      const std::map<std::string, std::string> values = {
+          {"scene", fs::path(spec.scene.path).stem().string()},
+          {"camera", label},
+          {"integrator", spec.render.integrator},
+          {"spp", std::to_string(spec.render.film.spp)},
+          {"job", file_name_part(spec.name)}};
+      const std::string where = job.label();
+      job.files.exr = substitute(spec.outputs.exr, values, where + ".output");
+      if (!spec.outputs.preview.empty())
+        job.files.preview = substitute(spec.outputs.preview, values, where + ".preview");
+      if (!spec.outputs.sample_counts.empty())
+        job.files.sample_counts =
+            substitute(spec.outputs.sample_counts, values, where + ".sample-count-image");
+      job.files.pixel_type = spec.pixel_type;
+      for (const std::string* path :
+           {&job.files.exr, &job.files.preview, &job.files.sample_counts}) {
+        if (path->empty()) continue;
+        const auto [it, added] = written.emplace(same_file_key(*path), where);
+        if (!added)
+          throw BatchError(where + " and " + it->second + " would both write " + *path +
+                           ": give the output a placeholder that tells them apart ({scene}, "
+                           "{camera}, {integrator}, {spp} or {job})");
+      }
+      if (job.error.empty()) {
+        try {
+          check_output_files(job.files, spec.scene.path);
+        } catch (const RequestError& e) {
+          job.error = e.field + ": " + e.what();
+        }
+      }
+      job.settings = canonical_settings(job.spec.scene, job.spec.render, job.spec.pixel_type);
+      const double pixels = job.spec.render.width > 0 ? static_cast<double>(job.spec.render.width) *
+                                                            job.spec.render.height
+                                                      : 640.0 * 480.0;
+      job.cost = job.error.empty() ? pixels * std::max(1, job.spec.render.film.spp) *
+                                         integrator_cost(job.spec.render.integrator)
+                                   : 1.0;
+      planned_.push_back(std::move(job));
+    }
+  }
+  planned_done_ = true;
+  return planned_;
+}
+
+std::vector<BatchJob> Batch::shard(int shard, int shards) {
+  const std::vector<BatchJob>& jobs = plan();
+  std::vector<size_t> order(jobs.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return jobs[a].cost > jobs[b].cost; });
+  std::vector<double> load(static_cast<size_t>(std::max(1, shards)), 0.0);
+  std::vector<int> owner(jobs.size(), 0);
+  for (size_t i : order) {
+    const size_t least =
+        static_cast<size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    load[least] += jobs[i].cost;
+    owner[i] = static_cast<int>(least);
+  }
+  std::vector<BatchJob> mine;
+  for (size_t i = 0; i < jobs.size(); ++i)
+    if (owner[i] == shard) mine.push_back(jobs[i]);
+  return mine;
+}
+
+std::string Batch::fingerprint(const BatchJob& job, const std::vector<InputFile>& inputs) const {
+  return job_fingerprint(job.settings, inputs);
+}
+
+bool Batch::up_to_date(const BatchJob& job) {
+  const std::optional<std::string> stored = read_exr_attribute(job.files.exr, "jobFingerprint");
+  const std::optional<std::string> inputs_text = read_exr_attribute(job.files.exr, "jobInputs");
+  if (!stored || !inputs_text) return false;
+  std::vector<InputFile> recorded;
+  if (!parse_inputs(*inputs_text, &recorded) || recorded.empty()) return false;
+  // The files the output was rendered from, hashed as they are now.
+  std::vector<InputFile> now;
+  try {
+    for (const InputFile& input : recorded) now.push_back({input.path, content_hash(input.path)});
+  } catch (const std::exception&) {
+    return false;  // an input is gone: render again, and let the load say why if it fails
+  }
+  // The master is written last, but a preview deleted since must be made again.
+  for (const std::string* other : {&job.files.preview, &job.files.sample_counts})
+    if (!other->empty() && !fs::exists(*other)) return false;
+  return fingerprint(job, now) == *stored;
+}
+
+std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
+                                  const BatchCallbacks& callbacks) {
+  std::vector<JobRecord> records(jobs.size());
+  // Grouped by scene in the order scenes first appear, so each is loaded once even when a
+  // job file interleaves them; the same order on every run.
+  std::vector<size_t> order(jobs.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  {
+    std::map<std::string, size_t> first;
+    for (size_t i = 0; i < jobs.size(); ++i) first.emplace(SceneCache::key(jobs[i].spec.scene), i);
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return first[SceneCache::key(jobs[a].spec.scene)] <
+             first[SceneCache::key(jobs[b].spec.scene)];
+    });
+  }
+  bool stopping = false;
+  for (size_t slot : order) {
+    const BatchJob& job = jobs[slot];
+    JobRecord& record = records[slot];
+    record.index = job.index;
+    record.label = job.label();
+    record.name = job.spec.name;
+    record.scene = job.spec.scene.path;
+    record.camera = job.camera_label;
+    record.integrator = job.spec.render.integrator;
+    record.output = job.files.exr;
+    record.spp = job.spec.render.film.spp;
+    record.width = job.spec.render.width;
+    record.height = job.spec.render.height;
+    if (!stopping && callbacks.stop && callbacks.stop()) stopping = true;
+    if (stopping) {
+      record.status = JobStatus::cancelled;
+      continue;
+    }
+    if (callbacks.job_started) callbacks.job_started(job);
+    const auto start = Clock::now();
+    if (!job.error.empty()) {
+      record.status = JobStatus::failed;
+      record.error = job.error;
+    } else if (!options_.force && up_to_date(job)) {
+      record.status = JobStatus::skipped;
+    } else {
+      render_job(job, slot, &records, callbacks);
+      if (record.status == JobStatus::cancelled) stopping = true;
+      // A rendered job's files are being written while the next job renders; its record is
+      // final, and reported, once they are.
+      if (record.status == JobStatus::rendered) continue;
+    }
+    record.seconds = seconds_since(start);
+    if (callbacks.job_finished) callbacks.job_finished(record);
+  }
+  finish_write(&records, callbacks);
+  return records;
+}
+
+void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>* records,
+                       const BatchCallbacks& callbacks) {
+  JobRecord& record = (*records)[slot];
+  const auto start = Clock::now();
+  const int loads_before = cache_->loads();
+  const auto entry = cache_->get(job.spec.scene);
+  if (cache_->loads() != loads_before && entry->session)
+    record.load_seconds = entry->session->load_seconds();
+  if (!entry->session) {
+    record.status = JobStatus::failed;
+    record.error = (entry->request_error ? "scene: " : "") + entry->error;
+    return;
+  }
+  Session& session = *entry->session;
+  JobCallbacks job_callbacks;
+  if (callbacks.progress)
+    job_callbacks.progress = [&](int done, int total) { callbacks.progress(job, done, total); };
+  if (callbacks.stop) job_callbacks.cancel = callbacks.stop;
+  RenderOutput out;
+  try {
+    session.check(job.spec.render);
+    out = session.render(job.spec.render, job_callbacks);
+  } catch (const RequestError& e) {
+    record.status = JobStatus::failed;
+    record.error = e.field + ": " + e.what();
+    return;
+  } catch (const std::exception& e) {
+    record.status = JobStatus::failed;
+    record.error = e.what();
+    return;
+  }
+  cache_->trim();
+  record.width = out.film.width;
+  record.height = out.film.height;
+  record.render_seconds = out.result.seconds;
+  record.build_seconds = out.build_seconds;
+  record.rays = out.result.rays.total();
+  record.rays_per_second =
+      out.result.seconds > 0.0 ? static_cast<double>(record.rays) / out.result.seconds : 0.0;
+  record.scene_bytes = session.memory_bytes();
+  if (!out.pass_errors.empty()) record.reference_error = out.pass_errors.back();
+  if (out.result.cancelled) {
+    record.status = JobStatus::cancelled;
+    return;
+  }
+  record.status = JobStatus::rendered;
+  out.metadata.extra.insert(out.metadata.extra.end(),
+                            {{"jobName", job.spec.name},
+                             {"jobFingerprint", fingerprint(job, entry->inputs)},
+                             {"jobInputs", format_inputs(entry->inputs)},
+                             {"jobSettings", job.settings}});
+
+  // One write in flight: the previous job's files are done before this one's start.
+  finish_write(records, callbacks);
+  pending_ = std::make_unique<PendingWrite>();
+  PendingWrite* p = pending_.get();
+  p->scene = entry;
+  p->output = std::move(out);
+  p->files = job.files;
+  p->colour = &session.colour(job.spec.render.working_space);
+  p->slot = slot;
+  record.seconds = seconds_since(start);
+  arena_->execute([p] {
+    p->group.run([p] {
+      const auto write_start = Clock::now();
+      try {
+        write_output_files(p->files, p->output, *p->colour);
+      } catch (const std::exception& e) {
+        p->error = e.what();
+      }
+      p->seconds = seconds_since(write_start);
+    });
+  });
+}
+
+void Batch::finish_write(std::vector<JobRecord>* records, const BatchCallbacks& callbacks) {
+  if (!pending_) return;
+  arena_->execute([&] { pending_->group.wait(); });
+  JobRecord& record = (*records)[pending_->slot];
+  record.write_seconds = pending_->seconds;
+  record.seconds += pending_->seconds;
+  if (!pending_->error.empty()) {
+    record.status = JobStatus::failed;
+    record.error = pending_->error;
+  }
+  pending_.reset();
+  if (callbacks.job_finished) callbacks.job_finished(record);
+}
+
+}  // namespace prism

@@ -1,0 +1,158 @@
+// The batch runner: many renders in one process (Deadline's or Flamenco's job list on one
+// machine, OSPRay Studio's batch mode). Jobs come from any front end as BatchJobSpec (a job
+// file: apps/batch_file.h); the batch expands them into one render each, checks that no two
+// write the same file, and renders them through the job API (session/session.h) so that:
+//   - each scene is loaded and built once and reused by all its jobs, within a memory budget
+//     (SceneCache, least recently used dropped first);
+//   - every job runs on one task arena, whose size is the batch's thread count; a job's
+//     files are written while the next one renders;
+//   - an output records its job's fingerprint (session/job_fingerprint.h), and a job whose
+//     output exists with the fingerprint it would get now is skipped;
+//   - a job that fails (a broken scene, a camera the file lacks, an output that cannot be
+//     written) is recorded and the rest go on;
+//   - outputs are written through temporaries renamed into place, the EXR last, so a kill at
+//     any moment leaves each output either absent, old or complete.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "session/job.h"
+#include "session/output_files.h"
+#include "session/scene_cache.h"
+
+namespace prism {
+
+// Output paths of a job before expansion; each may hold the placeholders {scene} (the scene
+// file's name without its extension), {camera}, {integrator}, {spp} and {job} (the job's
+// name).
+struct OutputPattern {
+  std::string exr, preview, sample_counts;
+};
+
+// One job as a job file states it, with every option checked but lists (integrators, spp
+// values) already expanded, and the cameras possibly "every camera of the scene".
+struct BatchJobSpec {
+  int file_index = 0;  // its position in the file's job list
+  std::string name;    // the job's name
+  SceneRequest scene;
+  RenderJob render;  // render.camera as given ("" = the scene's first)
+  bool every_camera = false;
+  // What tells this render from the others its file job expanded into ("integrator whitted,
+  // spp 16"), empty when the job had no lists.
+  std::string variant;
+  OutputPattern outputs;
+  ExrPixelType pixel_type = ExrPixelType::float32;
+};
+
+// A problem with the batch as a whole, before anything renders: two jobs writing the same
+// file, a placeholder that does not exist.
+struct BatchError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// One render of the batch.
+struct BatchJob {
+  int index = 0;  // in the expanded list, the order of the file
+  BatchJobSpec spec;
+  std::string camera_label;  // what {camera} became
+  OutputFiles files;
+  std::string settings;  // canonical_settings: what its fingerprint hashes besides the files
+  double cost = 0.0;     // estimated: pixels x samples x the integrator's relative cost
+  std::string error;     // set when expanding it already failed (its scene cannot be loaded)
+  // "jobs[3] 'name'", and the camera when the job expanded into several.
+  std::string label() const;
+};
+
+enum class JobStatus { rendered, skipped, failed, cancelled };
+inline constexpr EnumName<JobStatus> kJobStatusNames[] = {{JobStatus::rendered, "rendered"},
+                                                          {JobStatus::skipped, "skipped"},
+                                                          {JobStatus::failed, "failed"},
+                                                          {JobStatus::cancelled, "cancelled"}};
+constexpr std::span<const EnumName<JobStatus>> enum_names(JobStatus) {
+  return kJobStatusNames;
+}
+
+// What became of one job: the report's row.
+struct JobRecord {
+  int index = 0;
+  std::string label, name, scene, camera, integrator, output;
+  int width = 0, height = 0, spp = 0;
+  JobStatus status = JobStatus::cancelled;
+  std::string error;            // failed: one line naming the field or file
+  double seconds = 0.0;         // the job's own time: load and build it caused, render, write
+  double render_seconds = 0.0;  // rendering alone
+  double write_seconds = 0.0;   // writing its files
+  double load_seconds = 0.0;    // loading its scene, when this job caused it
+  double build_seconds = 0.0;   // building its BVH, when this job caused it
+  uint64_t rays = 0;
+  double rays_per_second = 0.0;
+  uint64_t scene_bytes = 0;                  // what its scene's session held after the render
+  std::optional<PassError> reference_error;  // with a reference image
+};
+
+struct BatchOptions {
+  int threads = 0;                                       // the whole batch's; 0 = every core
+  uint64_t memory_budget_bytes = uint64_t{8} << 30;      // the scenes kept loaded
+  uint64_t load_memory_limit_bytes = uint64_t{8} << 30;  // each load's (SessionOptions)
+  bool force = false;                                    // render even up-to-date jobs
+};
+
+struct BatchCallbacks {
+  std::function<void(const BatchJob&)> job_started;
+  std::function<void(const JobRecord&)> job_finished;
+  // The running job's tiles, as JobCallbacks::progress.
+  std::function<void(const BatchJob&, int tiles_done, int tiles_total)> progress;
+  // Polled between jobs and per tile: true stops starting jobs and abandons the running one
+  // (nothing of it is written).
+  std::function<bool()> stop;
+};
+
+class Batch {
+ public:
+  Batch(std::vector<BatchJobSpec> specs, const BatchOptions& options);
+  ~Batch();
+
+  // Expands every spec into its renders (loading the scenes of jobs that render every
+  // camera, to know them) and substitutes the placeholders. Throws BatchError when two
+  // renders would write the same file or a path keeps a placeholder that is not one.
+  // A job whose scene fails to load stays one render, with BatchJob::error set.
+  const std::vector<BatchJob>& plan();
+
+  // The renders of shard `shard` of `shards`: the expanded list split by estimated cost
+  // (each job to the shard with the least cost so far, the costliest first, ties to the
+  // lower shard), the same on every machine that plans the same file; in the list's order.
+  std::vector<BatchJob> shard(int shard, int shards);
+
+  // Renders `jobs` (a plan or a shard of it), grouped by scene so each is loaded once, and
+  // returns one record per job in the order of `jobs`.
+  std::vector<JobRecord> run(const std::vector<BatchJob>& jobs, const BatchCallbacks& callbacks);
+
+  // Whether the output of `job` exists with the fingerprint the job would record now.
+  bool up_to_date(const BatchJob& job);
+
+  const SceneCache& scenes() const { return *cache_; }
+
+ private:
+  // Renders `job` into (*records)[slot]; a rendered job's files are then being written.
+  void render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>* records,
+                  const BatchCallbacks& callbacks);
+  std::string fingerprint(const BatchJob& job, const std::vector<InputFile>& inputs) const;
+
+  std::vector<BatchJobSpec> specs_;
+  BatchOptions options_;
+  std::shared_ptr<tbb::task_arena> arena_;
+  std::unique_ptr<SceneCache> cache_;
+  std::vector<BatchJob> planned_;
+  bool planned_done_ = false;
+  // The files of the last rendered job, written while the next one renders.
+  struct PendingWrite;
+  std::unique_ptr<PendingWrite> pending_;
+  void finish_write(std::vector<JobRecord>* records, const BatchCallbacks& callbacks);
+};
+
+}  // namespace prism
