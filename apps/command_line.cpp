@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "distributed/world.h"
+
 namespace prism {
 
 void add_scene_options(CLI::App* cmd, SceneOptions* o) {
@@ -125,15 +127,25 @@ void print_warnings(const std::string& scene_path, const std::vector<std::string
 }
 
 int run_reporting_errors(const std::function<int()>& command) {
+  // Under mpirun, a usage error is the same on every rank (same arguments, same scene): rank
+  // 0 reports it and all exit alike. Anything else may be one rank's alone, and its peers
+  // would wait for it in the next collective: it ends them all.
+  // Asked after the command: it is what makes the world (the session does).
+  const auto quiet = [] {
+    const distributed::World* world = distributed::World::existing();
+    return world && !world->root();
+  };
   try {
     return command();
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "prism: error: %s\n", e.what());
+    if (!quiet()) std::fprintf(stderr, "prism: error: %s\n", e.what());
     return 2;
   } catch (const RequestError& e) {
-    std::fprintf(stderr, "prism: error: --%s %s\n", e.field.c_str(), e.what());
+    if (!quiet()) std::fprintf(stderr, "prism: error: --%s %s\n", e.field.c_str(), e.what());
     return 2;
   } catch (const std::exception& e) {
+    const distributed::World* world = distributed::World::existing();
+    if (world && world->size() > 1) world->abort(e.what());
     std::fprintf(stderr, "prism: error: %s\n", e.what());
     return 1;
   }

@@ -65,17 +65,23 @@ int run(const RenderOptions& o) {
   const SceneRequest& request = r.scene;
   check_output_files(files, o.scene.scene_path);
 
-  Session session(request, r.session);
-  print_warnings(o.scene.scene_path, session.warnings());
-  for (const std::string& line : session.sphere_detection_report())
-    std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),
-                 line.c_str());
+  SessionOptions options = r.session;
+  options.distribute_frames = true;  // under mpirun; a plain run is a world of one
+  Session session(request, options);
+  // Every rank would say the same: rank 0 alone prints, and writes the files.
+  const bool root = session.rank() == 0;
+  if (root) {
+    print_warnings(o.scene.scene_path, session.warnings());
+    for (const std::string& line : session.sphere_detection_report())
+      std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),
+                   line.c_str());
+  }
   session.check(job);
-  print_warnings(o.scene.scene_path, session.job_warnings(job));
+  if (root) print_warnings(o.scene.scene_path, session.job_warnings(job));
   // Built before the render so that --verbose can describe it and the summary time it.
   double build_seconds = 0.0;
   const RenderScene& built = session.render_scene(job, &build_seconds);
-  if (o.verbose) {
+  if (o.verbose && root) {
     const GeometryStatistics& stats = built.geometry().statistics();
     const int camera = session.camera_index(job.camera);
     const RenderSettings film = session.film(job);
@@ -91,7 +97,7 @@ int run(const RenderOptions& o) {
   }
 
   // With a reference, the per-pass lines report progress, and a bar would garble them.
-  ProgressBar progress(!o.quiet && o.reference_path.empty());
+  ProgressBar progress(root && !o.quiet && o.reference_path.empty());
   JobCallbacks callbacks;
   callbacks.progress = [&](int done, int total) { progress.update(done, total); };
   if (!o.quiet)
@@ -101,7 +107,22 @@ int run(const RenderOptions& o) {
     };
   const RenderOutput out = session.render(job, callbacks);
   progress.finish();
+  if (!root) return 0;
   const RenderResult& result = out.result;
+  const distributed::FrameSplitStats& split = out.frame_split;
+  if (o.verbose && split.ranks > 1) {
+    std::string tiles;
+    for (uint64_t n : split.tiles_per_rank) tiles += (tiles.empty() ? "" : " + ") + with_commas(n);
+    std::fprintf(stderr,
+                 "prism: %d MPI ranks rendered %s tiles; rank 0 received %s tiles, %s bytes "
+                 "(%.0f per tile), waited %.4f s for the last rank and gathered in %.4f s\n",
+                 split.ranks, tiles.c_str(), with_commas(split.tiles_received).c_str(),
+                 with_commas(split.bytes_received).c_str(),
+                 split.tiles_received ? static_cast<double>(split.bytes_received) /
+                                            static_cast<double>(split.tiles_received)
+                                      : 0.0,
+                 split.wait_seconds, split.gather_seconds);
+  }
   if (result.time_limit_reached && !o.quiet)
     std::fprintf(stderr,
                  "prism: --time-limit %g s reached after round %d (%.4g spp mean); the image "

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -10,14 +12,10 @@
 #include "renderer/sampling/adaptive_sampling.h"
 
 namespace prism {
-namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // Tiles are whole numbers of the tile loop's 4 x 4 packet blocks (integrators/tile_loop.h),
 // which then start at multiples of 4 in the image whatever the tile size: which camera rays
 // share a packet, and so the image, does not depend on it.
-
 std::vector<TileRect> make_tiles(const RenderSettings& s) {
   const int ts = (std::max(1, s.tile_size) + kPacketBlock - 1) / kPacketBlock * kPacketBlock;
   std::vector<TileRect> tiles;
@@ -26,6 +24,10 @@ std::vector<TileRect> make_tiles(const RenderSettings& s) {
       tiles.push_back({x, y, std::min(x + ts, s.width), std::min(y + ts, s.height)});
   return tiles;
 }
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
 
 // Runs passes over tiles in parallel, adding up the rays every tile cast and reporting
 // progress; times the whole render without the PassCallback's share.
@@ -36,14 +38,29 @@ class PassRunner {
 
   // Tiles run on the caller's task arena, so the thread limit is whoever owns that arena
   // (the session: session/session.h), set once rather than here and again in the app.
+  //
+  // With a claim_tile callback, task i renders whichever tile the claim hands out, not tile i:
+  // no process can be handed more than every tile, and once the claims run dry the remaining
+  // tasks return without asking again.
   void run(const RenderContext& context, const std::vector<TileRect>& tiles) {
+    std::atomic<bool> claims_exhausted{false};
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, tiles.size(), 1),
         [&](const tbb::blocked_range<size_t>& range) {
           for (size_t i = range.begin(); i != range.end(); ++i) {
             if (cancelled()) return;
+            size_t tile = i;
+            if (callbacks_.claim_tile) {
+              if (claims_exhausted) return;
+              const std::optional<size_t> claimed = callbacks_.claim_tile();
+              if (!claimed || *claimed >= tiles.size()) {
+                claims_exhausted = true;
+                return;
+              }
+              tile = *claimed;
+            }
             RayCounters counters;
-            integrator_.render_tile(context, tiles[i], image_, &counters);
+            integrator_.render_tile(context, tiles[tile], image_, &counters);
             for (size_t k = 0; k < kRayKindCount; ++k) rays_[k] += counters.rays[k];
             discarded_ += counters.discarded_samples;
             report(++done_);
@@ -189,6 +206,8 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
 RenderResult render(const Integrator& integrator, const RenderContext& context, Image* image,
                     const RenderCallbacks& callbacks) {
   const RenderSettings& s = context.settings;
+  if (callbacks.claim_tile && (s.adaptive() || callbacks.after_pass))
+    throw std::logic_error("render: claim_tile needs a uniform single-pass render");
   *image = Image(s.width, s.height);
   const std::vector<TileRect> tiles = make_tiles(s);
   PassRunner runner(integrator, image, callbacks);

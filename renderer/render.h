@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "renderer/integrator.h"
@@ -40,7 +41,17 @@ struct RenderCallbacks {
   // Polled before each tile, possibly from several threads at once; true stops the render
   // (RenderResult::cancelled).
   std::function<bool()> cancel;
+  // Which tiles of make_tiles(settings) this process renders, when several processes share
+  // one frame (distributed/): each call hands out a tile no other caller gets, or nothing once
+  // none is left, and may come from several threads at once. Unset: every tile. Only for a
+  // uniform render without after_pass, whose single pass makes a tile index mean one piece
+  // of work.
+  std::function<std::optional<size_t>()> claim_tile;
 };
+
+// The tiles render() splits the image into, row by row; RenderCallbacks::claim_tile hands out
+// indices into this list.
+std::vector<TileRect> make_tiles(const RenderSettings& settings);
 
 // Runs on the calling thread's task arena: the caller sets the thread limit by running it
 // inside a tbb::task_arena (session/session.h does).

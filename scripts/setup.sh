@@ -34,6 +34,9 @@ PACKAGES=(
   # tests/cli/hostile_confinement.sh checks with strace that a hostile file opens nothing
   # outside its folder
   strace
+  # `mpirun -n R prism render` splits a frame over MPI ranks (distributed/); tests/cli/mpi.sh
+  # checks it against a single process
+  libopenmpi-dev openmpi-bin
   "$@"
 )
 

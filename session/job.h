@@ -14,6 +14,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "distributed/frame_split.h"
 #include "integrators/parameters.h"
 #include "renderer/geometry/embree_scene.h"
 #include "renderer/image/colour.h"
@@ -62,6 +63,12 @@ struct SessionOptions {
   // render's film and sample buffers are estimated and checked against it before they are
   // made.
   uint64_t memory_budget_bytes = uint64_t{8} << 30;
+  // Share each render's tiles with the other ranks an MPI launcher started with this process
+  // (distributed/frame_split.h): every rank loads and builds the scene and renders the tiles
+  // it claims, and rank 0's RenderOutput holds the whole image. Uniform sampling only: under
+  // several ranks, adaptive sampling and a reference are refused (RequestError). Without a
+  // launcher, a world of one: the same as false.
+  bool distribute_frames = false;
 };
 
 // "640x480" -> 640, 480 (each 1 to kMaxImageSide); false for anything else.
@@ -119,6 +126,10 @@ struct RenderOutput {
   double build_seconds = 0.0;  // building the BVH for this job; 0 when an earlier job's was reused
   std::vector<PassError> pass_errors;  // with a reference
   RenderMetadata metadata;             // what its EXR records
+  // With SessionOptions::distribute_frames: which rank this is and what the split cost. On
+  // rank 0, `image` is the whole frame and `result` the frame's (rays summed over ranks,
+  // seconds rank 0's until its image was whole); on the others, only their own tiles.
+  distributed::FrameSplitStats frame_split;
 };
 
 }  // namespace prism

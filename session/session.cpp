@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "distributed/frame_split.h"
 #include "renderer/camera.h"
 #include "renderer/image/image_metrics.h"
 #include "scene_io/gltf_loader.h"
@@ -84,6 +85,7 @@ bool parse_resolution(const std::string& text, int* width, int* height) {
 Session::Session(const SceneRequest& request, const SessionOptions& options)
     : request_(request),
       options_(options),
+      world_(options.distribute_frames ? &distributed::World::process() : nullptr),
       arena_(options.arena
                  ? options.arena
                  : std::make_shared<tbb::task_arena>(
@@ -178,6 +180,17 @@ Session::Plan Session::plan(const RenderJob& job) const {
                                               " integrator has no such parameter (it takes " +
                                               (takes.empty() ? "none" : takes) + ")"
                                         : e.what());
+  }
+  if (ranks() > 1) {
+    // Adaptive rounds and per-pass errors need every rank's pixels between passes; one
+    // frame over MPI gathers once, at the end.
+    const std::string refused =
+        ": not supported with " + std::to_string(ranks()) + " MPI ranks yet";
+    if (job.film.target_error > 0.0f)
+      throw RequestError("target-error", format_number(job.film.target_error) + refused);
+    if (job.film.time_limit_seconds > 0.0)
+      throw RequestError("time-limit", format_number(job.film.time_limit_seconds) + refused);
+    if (!job.reference_path.empty()) throw RequestError("reference", job.reference_path + refused);
   }
   p.camera = find_camera(job.camera);
   p.film = film_for(job, p.camera, &p.warnings);
@@ -321,10 +334,30 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
       if (callbacks.pass_error) callbacks.pass_error(pass);
     };
   }
-  arena_->execute([&] {
-    out.result = prism::render(*integrator, RenderContext{built, camera, p.film}, &out.image,
-                               render_callbacks);
-  });
+  if (ranks() == 1) {
+    arena_->execute([&] {
+      out.result = prism::render(*integrator, RenderContext{built, camera, p.film}, &out.image,
+                                 render_callbacks);
+    });
+  } else {
+    // From the shared counter's creation to the gather every rank must take part: a rank
+    // that threw here would leave the others waiting forever, so it ends them all instead.
+    world_->all_or_abort([&] {
+      distributed::FrameSplit split(*world_, p.film);
+      render_callbacks.claim_tile = [&] { return split.claim(); };
+      // Rank 0's bar follows the tiles handed out to every rank, not its own share.
+      render_callbacks.progress = nullptr;
+      if (callbacks.progress && world_->root())
+        render_callbacks.progress = [&](int, int total) {
+          callbacks.progress(static_cast<int>(split.claimed_anywhere()), total);
+        };
+      arena_->execute([&] {
+        out.result = prism::render(*integrator, RenderContext{built, camera, p.film}, &out.image,
+                                   render_callbacks);
+      });
+      out.frame_split = split.gather(&out.image, &out.result);
+    });
+  }
   out.metadata = metadata(job, p, camera, out);
   return out;
 }

@@ -28,6 +28,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "distributed/world.h"
 #include "integrators/registry.h"
 #include "renderer/geometry/embree_device.h"
 #include "renderer/render_scene.h"
@@ -55,6 +56,11 @@ class Session {
   const std::vector<std::string>& sphere_detection_report() const { return sphere_report_; }
   double load_seconds() const { return load_seconds_; }
   const SessionOptions& options() const { return options_; }
+  // The MPI rank this session renders as and how many share its frames
+  // (SessionOptions::distribute_frames); 0 of 1 otherwise. Only rank 0 gets whole images, so
+  // a front end prints and writes on rank 0 alone.
+  int rank() const { return world_ ? world_->rank() : 0; }
+  int ranks() const { return world_ ? world_->size() : 1; }
   // Adds the default camera and light where the scene has none, unless done already; every
   // check and render does it first.
   void add_defaults();
@@ -112,6 +118,7 @@ class Session {
 
   SceneRequest request_;
   SessionOptions options_;
+  const distributed::World* world_ = nullptr;  // with distribute_frames
   SceneDescription scene_;
   std::vector<std::string> sphere_report_;
   bool defaults_added_ = false;
