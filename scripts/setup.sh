@@ -14,6 +14,8 @@ PACKAGES=(
   libopencolorio-dev opencolorio-tools
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libcli11-dev
+  # checkpoint files and their job fingerprint are hashed with XXH3
+  libxxhash-dev
   # KHR_draco_mesh_compression: tinygltf is built without Draco, so scene_io decodes it
   libdraco-dev
   # tests and benchmarks
