@@ -30,7 +30,9 @@ struct RenderState {
   std::vector<PixelSums> sums;  // per pixel, row-major
   // Adaptive only (empty otherwise), per pixel: the sums of the first 2^k samples, whether
   // the pixel still samples, the samples a stopped pixel took, and each pixel's last error
-  // estimate (a stopped pixel's still counts in its neighbours' decisions).
+  // estimate. A stopped pixel's estimate is read in its neighbours' decisions; with
+  // kNeighbourWeight <= 1 it cannot change one (it stopped below the target), but the
+  // state keeps it so that a resumed decision reads exactly what an uninterrupted one does.
   std::vector<PixelSums> first_half;
   std::vector<uint8_t> active;
   std::vector<uint32_t> samples_per_pixel;
