@@ -172,7 +172,14 @@ int run(const RenderOptions& o) {
     };
     callbacks.resume = resume ? &*resume : nullptr;
   }
-  const RenderOutput out = session.render(job, callbacks);
+  RenderOutput out;
+  try {
+    out = session.render(job, callbacks);
+  } catch (...) {
+    restore_stop_signals();
+    throw;
+  }
+  restore_stop_signals();
   progress.finish();
   const RenderResult& result = out.result;
   if (result.cancelled) {

@@ -3,7 +3,8 @@
 #include <signal.h>
 
 #include <atomic>
-#include <string>
+#include <cstddef>
+#include <iterator>
 
 namespace prism {
 namespace {
@@ -33,15 +34,19 @@ extern "C" void on_stop_signal(int sig) {
   }
 }
 
-void install(int sig) {
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGUSR1, SIGUSR2};
+struct sigaction g_previous[std::size(kSignals)];
+bool g_installed[std::size(kSignals)] = {};
+
+void install(size_t i) {
   struct sigaction previous {};
-  if (::sigaction(sig, nullptr, &previous) != 0) return;
+  if (::sigaction(kSignals[i], nullptr, &previous) != 0) return;
   if (!(previous.sa_flags & SA_SIGINFO) && previous.sa_handler == SIG_IGN) return;
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
   action.sa_flags = SA_RESTART;  // a write in progress goes on rather than failing
-  ::sigaction(sig, &action, nullptr);
+  if (::sigaction(kSignals[i], &action, &g_previous[i]) == 0) g_installed[i] = true;
 }
 
 }  // namespace
@@ -49,9 +54,16 @@ void install(int sig) {
 void install_stop_signals(bool checkpoint_signals) {
   g_interrupted = g_stop = g_checkpoint = false;
   g_first_signal = 0;
-  install(SIGINT);
-  if (checkpoint_signals)
-    for (int sig : {SIGTERM, SIGUSR1, SIGUSR2}) install(sig);
+  for (size_t i = 0; i < std::size(kSignals); ++i)
+    if (!g_installed[i] && (kSignals[i] == SIGINT || checkpoint_signals)) install(i);
+}
+
+void restore_stop_signals() {
+  for (size_t i = 0; i < std::size(kSignals); ++i)
+    if (g_installed[i]) {
+      ::sigaction(kSignals[i], &g_previous[i], nullptr);
+      g_installed[i] = false;
+    }
 }
 
 bool interrupted() {

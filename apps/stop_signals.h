@@ -17,6 +17,12 @@ namespace prism {
 // terminated). Clears every flag. Signals the process ignores stay ignored.
 void install_stop_signals(bool checkpoint_signals);
 
+// Gives the signals back the dispositions they had before install_stop_signals: once the
+// render is over, SIGINT and SIGTERM end the process again (during the output's write,
+// renderer/image/image_output.h removes its temporary and dies of the signal). The flags
+// keep what they saw.
+void restore_stop_signals();
+
 bool interrupted();
 bool stop_requested();
 // True once per SIGUSR2 received since the last call.
