@@ -43,7 +43,10 @@ int main(int argc, char** argv) {
                                      : "");
     return 2;
   }
-  if (render->parsed()) return prism::run_render(render_options);
+  if (render->parsed()) {
+    render_options.argv.assign(argv, argv + argc);
+    return prism::run_render(render_options);
+  }
   if (diff->parsed()) return prism::run_diff(diff_options);
   if (compare->parsed()) return prism::run_compare(compare_options);
   if (info->parsed()) return prism::run_info(info_options);

@@ -1,10 +1,17 @@
 #include "apps/render_command.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <string>
+#include <system_error>
 
 #include "apps/progress_bar.h"
+#include "apps/stop_signals.h"
+#include "session/checkpoint_file.h"
+#include "session/job_fingerprint.h"
 #include "session/output_files.h"
 #include "session/session.h"
 
@@ -29,6 +36,26 @@ std::string ray_summary(const RayCounters& rays) {
   return text + "total " + with_commas(rays.total());
 }
 
+// The command line as a shell reads it back: words with anything but safe characters in
+// single quotes.
+std::string shell_command(const std::vector<std::string>& argv) {
+  std::string text;
+  for (const std::string& word : argv) {
+    if (!text.empty()) text += ' ';
+    const bool safe = !word.empty() && word.find_first_not_of(
+                                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                           "0123456789_-+=/.,:@%") == std::string::npos;
+    if (safe) {
+      text += word;
+      continue;
+    }
+    text += '\'';
+    for (char c : word) text += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    text += '\'';
+  }
+  return text;
+}
+
 }  // namespace
 
 RenderRequest render_request(const RenderOptions& o) {
@@ -47,6 +74,10 @@ RenderRequest render_request(const RenderOptions& o) {
   job.film.min_spp = o.min_spp;
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
+  if (!std::isfinite(o.checkpoint_interval) || o.checkpoint_interval < 0.0)
+    throw UsageError("--checkpoint-interval " + std::to_string(o.checkpoint_interval) +
+                     ": must be a finite number of seconds >= 0");
+  r.checkpoint_interval = o.checkpoint_interval;
   job.reference_path = o.reference_path;
   r.files = OutputFiles{o.output_path, o.preview_path, o.sample_count_path,
                         o.half ? ExrPixelType::half : ExrPixelType::float32};
@@ -64,6 +95,9 @@ int run(const RenderOptions& o) {
   const OutputFiles& files = r.files;
   const SceneRequest& request = r.scene;
   check_output_files(files, o.scene.scene_path);
+  const bool checkpoints = r.checkpoint_interval > 0.0;
+  // Before the scene loads, so that a SIGTERM during a long load is not lost either.
+  install_stop_signals(checkpoints);
 
   SessionOptions options = r.session;
   options.distribute_frames = true;  // under mpirun; a plain run is a world of one
@@ -96,6 +130,34 @@ int run(const RenderOptions& o) {
     std::fprintf(stderr, "prism: features: %s\n", to_string(built.features()).c_str());
   }
 
+  // A checkpoint of this job continues it; any other (an edited scene, another option, a
+  // damaged file) is reported and rendered over from the start.
+  const std::string checkpoint = checkpoint_path(o.output_path);
+  std::string fingerprint;
+  std::optional<RenderState> resume;
+  std::error_code exists_error;
+  if (checkpoints) {
+    fingerprint = job_fingerprint(canonical_settings(request, job, files.pixel_type),
+                                  hash_inputs(session.scene().source_files));
+    if (std::filesystem::exists(checkpoint, exists_error)) {
+      CheckpointRead read = read_checkpoint(checkpoint, session.film(job), fingerprint);
+      if (read.state) {
+        resume = std::move(read.state);
+        std::fprintf(stderr,
+                     "prism: resuming %s from its checkpoint: %d of %d samples per pixel done\n",
+                     o.output_path.c_str(), resume->samples_done, resume->spp);
+      } else {
+        std::fprintf(stderr, "prism: warning: %s: %s; rendering from the start\n",
+                     checkpoint.c_str(), read.reason.c_str());
+      }
+    }
+  }
+  if (stop_requested() || interrupted()) {
+    std::fprintf(stderr, "prism: %s before the render started: nothing written\n",
+                 stop_signal_name(stop_signal()));
+    return 128 + stop_signal();
+  }
+
   // With a reference, the per-pass lines report progress, and a bar would garble them.
   ProgressBar progress(root && !o.quiet && o.reference_path.empty());
   JobCallbacks callbacks;
@@ -105,10 +167,65 @@ int run(const RenderOptions& o) {
       std::fprintf(stderr, "prism: pass %d/%d: RMSE %.6g relMSE %.6g\n", e.samples, job.film.spp,
                    e.rmse, e.relmse);
     };
-  const RenderOutput out = session.render(job, callbacks);
+  callbacks.cancel = [] { return interrupted(); };
+  // A checkpoint that cannot be written (a full disk) is reported once; the render goes on.
+  std::string save_error;
+  int saved_samples = -1;
+  auto last_save = std::chrono::steady_clock::now();
+  if (checkpoints) {
+    callbacks.checkpoint_due = [&] {
+      return checkpoint_requested() ||
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - last_save).count() >=
+                 o.checkpoint_interval;
+    };
+    callbacks.stop = [] { return stop_requested(); };
+    callbacks.save_checkpoint = [&](const RenderState& state) {
+      try {
+        write_checkpoint(checkpoint, state, fingerprint);
+        saved_samples = state.samples_done;
+        save_error.clear();
+      } catch (const std::exception& e) {
+        if (save_error.empty()) {
+          progress.finish();
+          std::fprintf(stderr, "prism: warning: cannot save the checkpoint: %s\n", e.what());
+        }
+        save_error = e.what();
+      }
+      last_save = std::chrono::steady_clock::now();
+    };
+    callbacks.resume = resume ? &*resume : nullptr;
+  }
+  RenderOutput out;
+  try {
+    out = session.render(job, callbacks);
+  } catch (...) {
+    restore_stop_signals();
+    throw;
+  }
+  restore_stop_signals();
   progress.finish();
   if (!root) return 0;
   const RenderResult& result = out.result;
+  if (result.cancelled) {
+    std::fprintf(stderr, "prism: interrupted by SIGINT: nothing written\n");
+    return 130;
+  }
+  if (result.stopped_at_checkpoint) {
+    const int sig = stop_signal();
+    if (!save_error.empty()) {
+      std::fprintf(stderr, "prism: stopped by %s, but the checkpoint could not be saved (%s)%s\n",
+                   stop_signal_name(sig), save_error.c_str(),
+                   saved_samples >= 0 || resume ? "; the last one saved remains" : "");
+    } else {
+      std::fprintf(stderr,
+                   "prism: stopped by %s after %d of %d samples per pixel; saved %s, nothing "
+                   "else written\n",
+                   stop_signal_name(sig), saved_samples, std::max(1, job.film.spp),
+                   checkpoint.c_str());
+    }
+    std::fprintf(stderr, "prism: to resume, run: %s\n", shell_command(o.argv).c_str());
+    return 128 + sig;
+  }
   const distributed::FrameSplitStats& split = out.frame_split;
   if (o.verbose && split.ranks > 1) {
     std::string tiles;
@@ -129,6 +246,11 @@ int run(const RenderOptions& o) {
                  "depends on this machine's speed\n",
                  out.film.time_limit_seconds, result.rounds, result.mean_spp(out.film));
   write_output_files(files, out, session.colour(job.working_space));
+  // The image is on disk: the checkpoint has nothing left to continue.
+  if (checkpoints) {
+    std::error_code remove_error;
+    std::filesystem::remove(checkpoint, remove_error);
+  }
 
   if (!o.quiet) {
     const double wall =
@@ -142,6 +264,9 @@ int run(const RenderOptions& o) {
     std::printf("rays         %s\n", ray_summary(r).c_str());
     std::printf("rays/second  %.3g\n", result.seconds > 0.0 ? r.total() / result.seconds : 0.0);
     std::printf("discarded    %s non-finite samples\n", with_commas(r.discarded_samples).c_str());
+    if (out.resumed_samples > 0)
+      std::printf("resumed      from %s at %d of %d spp (its rays and time included above)\n",
+                  checkpoint.c_str(), out.resumed_samples, std::max(1, out.film.spp));
     if (!out.pass_errors.empty())
       std::printf("reference    RMSE %s, relMSE %s against %s\n",
                   format_error(out.pass_errors.back().rmse).c_str(),
@@ -199,6 +324,11 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   cmd->add_flag("--general-path", o->general_path,
                 "Run the integrators' general code, not the one specialised on the scene's "
                 "features (same image; for tests and benchmarks)");
+  cmd->add_option("--checkpoint-interval", o->checkpoint_interval,
+                  "Seconds: save the render's state to OUTPUT.checkpoint this often, and on "
+                  "SIGTERM or SIGUSR1 save it and stop (exit 128 + signal); running the same "
+                  "command again continues it, bit-identically (0 = off)")
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", o->quiet, "No progress bar and no summary");
   cmd->add_flag("-v,--verbose", o->verbose, "Describe the scene before rendering");
   return cmd;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -30,6 +31,11 @@ struct RenderOptions {
   bool general_path = false;             // RenderSettings::specialise = false
   bool quiet = false;
   bool verbose = false;
+  // Seconds between checkpoints (OUTPUT.checkpoint); 0 = none. With it, SIGTERM and SIGUSR1
+  // save one and stop, and a re-run continues from it (docs/sampling.md, Checkpoints).
+  double checkpoint_interval = 0.0;
+  // The command line as run, to print the command that resumes a stopped render.
+  std::vector<std::string> argv;
 };
 
 // What a `prism render` command line asks for, checked (UsageError or RequestError naming the
@@ -41,13 +47,17 @@ struct RenderRequest {
   SessionOptions session;
   RenderJob job;
   OutputFiles files;
+  double checkpoint_interval = 0.0;  // seconds between checkpoints; 0 = none
 };
 RenderRequest render_request(const RenderOptions& options);
 
 // Adds the `render` subcommand to `app`, filling `options` when it is parsed.
 CLI::App* add_render_command(CLI::App& app, RenderOptions* options);
 
-// Runs it. Returns the process exit code; errors are printed as one line on stderr.
+// Runs it. Returns the process exit code; errors are printed as one line on stderr. A render
+// stopped by SIGINT exits 130 with nothing written; one stopped by SIGTERM or SIGUSR1 with
+// checkpoints on saves its checkpoint, writes no image and exits 128 + the signal's number
+// (143, 138).
 int run_render(const RenderOptions& options);
 
 }  // namespace prism

@@ -35,18 +35,6 @@ inline void add_sample(const SampleResult& r, PixelSums* sums, RayCounters* coun
   ++sums->kept;
 }
 
-inline void write_pixel(const PixelSums& sums, float* out) {
-  if (sums.kept == 0) {
-    out[0] = out[1] = out[2] = out[3] = 0.0f;
-    return;
-  }
-  const float inv_kept = 1.0f / static_cast<float>(sums.kept);
-  out[0] = sums.radiance.x * inv_kept;
-  out[1] = sums.radiance.y * inv_kept;
-  out[2] = sums.radiance.z * inv_kept;
-  out[3] = static_cast<float>(sums.hits) * inv_kept;
-}
-
 // A packet of camera rays and their nearest hits, as the tile loop hands them to an
 // integrator: lanes [0, count).
 struct CameraPacket {

@@ -84,6 +84,21 @@ struct PixelSums {
   Imath::V3f radiance_squared{0.0f, 0.0f, 0.0f};  // for adaptive sampling's error model
 };
 
+// A pixel's RGBA from its sums: the mean of its kept samples, alpha the fraction that hit;
+// 0 with alpha 0 when none was kept. Here rather than in the tile loop because a resumed
+// render (renderer/render_state.h) writes its stopped pixels from their sums the same way.
+inline void write_pixel(const PixelSums& sums, float* out) {
+  if (sums.kept == 0) {
+    out[0] = out[1] = out[2] = out[3] = 0.0f;
+    return;
+  }
+  const float inv_kept = 1.0f / static_cast<float>(sums.kept);
+  out[0] = sums.radiance.x * inv_kept;
+  out[1] = sums.radiance.y * inv_kept;
+  out[2] = sums.radiance.z * inv_kept;
+  out[3] = static_cast<float>(sums.hits) * inv_kept;
+}
+
 // Which samples of each pixel a render_tile call takes. The default is all of them in one
 // go; renderer/render.cpp takes one sample per pass when it is asked for the image after
 // every pass, keeping the sums in `sums` (one per pixel, row-major) between calls.

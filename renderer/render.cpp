@@ -5,6 +5,7 @@
 #include <chrono>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -113,57 +114,163 @@ class PassRunner {
   std::atomic<int> done_{0}, total_{0};
 };
 
+// Between passes: asks the checkpoint callbacks whether to save and whether to stop, and
+// keeps the render's clock (over every run) without the time saving takes.
+class Checkpoints {
+ public:
+  Checkpoints(const RenderCallbacks& callbacks, const PassRunner& runner)
+      : callbacks_(callbacks), runner_(runner) {
+    if (callbacks.resume) {
+      resumed_seconds_ = callbacks.resume->seconds;
+      resumed_rays_ = callbacks.resume->rays;
+    }
+  }
+
+  // True: the render stops here (after `state` was saved, when there is a `save`).
+  bool poll(RenderState* state) {
+    const bool stop = callbacks_.stop && callbacks_.stop();
+    if ((stop || (callbacks_.checkpoint_due && callbacks_.checkpoint_due())) && callbacks_.save) {
+      state->rays = rays();
+      state->seconds = seconds();
+      const auto save_start = Clock::now();
+      callbacks_.save(*state);
+      save_time_ += Clock::now() - save_start;
+    }
+    return stop;
+  }
+
+  double seconds() const {
+    return resumed_seconds_ + runner_.seconds() - std::chrono::duration<double>(save_time_).count();
+  }
+  RayCounters rays() const {
+    RayCounters r = resumed_rays_;
+    r += runner_.rays();
+    return r;
+  }
+
+  void finish(RenderResult* result) const {
+    result->seconds = seconds();
+    result->rays = rays();
+    result->resumed_rays = resumed_rays_;
+    if (callbacks_.resume) result->resumed_samples = callbacks_.resume->samples_done;
+  }
+
+ private:
+  const RenderCallbacks& callbacks_;
+  const PassRunner& runner_;
+  double resumed_seconds_ = 0.0;
+  RayCounters resumed_rays_;
+  Clock::duration save_time_{};
+};
+
+// The state a render starts from: the resumed one, whose pixels are written into `image` at
+// once (an adaptive render never visits its stopped pixels again), or sample 0.
+RenderState initial_state(const RenderSettings& s, const RenderState* resume, Image* image) {
+  if (!resume) return RenderState::start(s);
+  const std::string mismatch = resume->mismatch(s);
+  if (!mismatch.empty()) throw std::invalid_argument("cannot resume this render: " + mismatch);
+  RenderState state = *resume;
+  tbb::parallel_for(0, s.height, [&](int y) {
+    for (int x = 0; x < s.width; ++x)
+      write_pixel(state.sums[static_cast<size_t>(y) * s.width + x], image->pixel(x, y));
+  });
+  return state;
+}
+
 RenderResult render_uniform(const RenderContext& context, const std::vector<TileRect>& tiles,
-                            PassRunner* runner, Image* image, const PassCallback& after_pass) {
+                            PassRunner* runner, Image* image, const RenderCallbacks& callbacks) {
   const RenderSettings& s = context.settings;
+  const PassCallback& after_pass = callbacks.after_pass;
+  const bool checkpoints = callbacks.checkpoints();
   // Passes keep each pixel's sums between them; a single pass keeps them on the stack.
-  const int passes = after_pass ? std::max(1, s.spp) : 1;
-  std::vector<PixelSums> sums(after_pass ? static_cast<size_t>(s.width) * s.height : 0);
+  const bool per_sample = after_pass || checkpoints;
+  const int passes = per_sample ? std::max(1, s.spp) : 1;
+  RenderState state;
+  if (per_sample) state = initial_state(s, callbacks.resume, image);
+  Checkpoints clock(callbacks, *runner);
+  RenderResult result;
   runner->set_total(static_cast<int>(tiles.size()) * passes);
-  for (int pass = 0; pass < passes; ++pass) {
+  runner->skip(static_cast<int>(tiles.size()) * state.samples_done);
+  for (int pass = state.samples_done; pass < passes; ++pass) {
     RenderContext pass_context = context;
-    if (after_pass) pass_context.pass = SamplePass{pass, pass + 1, sums.data()};
+    if (per_sample) pass_context.pass = SamplePass{pass, pass + 1, state.sums.data()};
     runner->run(pass_context, tiles);
     if (runner->cancelled()) break;
+    state.samples_done = pass + 1;
     if (after_pass) runner->call(after_pass, pass + 1, *image);
+    if (checkpoints && pass + 1 < passes && clock.poll(&state)) {
+      result.stopped_at_checkpoint = true;
+      break;
+    }
   }
-  RenderResult result;
   result.cancelled = runner->cancelled();
-  result.seconds = runner->seconds();
-  result.rays = runner->rays();
+  clock.finish(&result);
   return result;
 }
 
 RenderResult render_adaptive(const RenderContext& context, const std::vector<TileRect>& tiles,
-                             PassRunner* runner, Image* image, const PassCallback& after_pass) {
+                             PassRunner* runner, Image* image, const RenderCallbacks& callbacks) {
   const RenderSettings& s = context.settings;
+  const PassCallback& after_pass = callbacks.after_pass;
+  const bool checkpoints = callbacks.checkpoints();
   const int spp = std::max(1, s.spp);
   const size_t pixels = static_cast<size_t>(s.width) * s.height;
-  std::vector<PixelSums> sums(pixels), first_half(pixels);
-  std::vector<uint8_t> active(pixels, 1);
-  std::vector<uint32_t> samples(pixels, 0);
-  std::vector<float> error;
+  RenderState state = initial_state(s, callbacks.resume, image);
+  std::vector<PixelSums>& sums = state.sums;
+  std::vector<PixelSums>& first_half = state.first_half;
+  std::vector<uint8_t>& active = state.active;
+  std::vector<uint32_t>& samples = state.samples_per_pixel;
+  std::vector<float>& error = state.error;
   std::vector<uint8_t> tile_active;
 
+  // Checkpoints split rounds into passes of one sample, and progress then counts tiles per
+  // sample rather than per round.
   int planned = 0;
   for (int n = 0; n < spp; n = next_round_end(n, s.min_spp, spp)) ++planned;
-  runner->set_total(static_cast<int>(tiles.size()) * planned);
+  runner->set_total(static_cast<int>(tiles.size()) * (checkpoints ? spp : planned));
 
-  RenderResult result;
-  std::vector<TileRect> round_tiles = tiles;
+  // Where the resumed state stands: inside the round that started at `done`, or at its end
+  // with the decision made. Only tiles with an active pixel take part, as in the round that
+  // was interrupted (a pixel never becomes active again).
   int done = 0;
-  while (done < spp) {
+  while (done < spp && next_round_end(done, s.min_spp, spp) <= state.samples_done)
+    done = next_round_end(done, s.min_spp, spp);
+  std::vector<TileRect> round_tiles;
+  for (const TileRect& t : tiles) {
+    bool any = !callbacks.resume;
+    for (int y = t.y0; y < t.y1 && !any; ++y)
+      for (int x = t.x0; x < t.x1 && !any; ++x) any = active[static_cast<size_t>(y) * s.width + x];
+    if (any) round_tiles.push_back(t);
+  }
+  if (checkpoints) runner->skip(static_cast<int>(tiles.size()) * state.samples_done);
+
+  Checkpoints clock(callbacks, *runner);
+  RenderResult result;
+  result.rounds = state.rounds;
+  while (done < spp && !result.stopped_at_checkpoint) {
     const int end = next_round_end(done, s.min_spp, spp);
     RenderContext round_context = context;
-    round_context.pass = SamplePass{done, end, sums.data(), active.data(), first_half.data()};
-    runner->skip(static_cast<int>(tiles.size() - round_tiles.size()));
-    runner->run(round_context, round_tiles);
-    if (runner->cancelled()) break;
+    while (state.samples_done < end) {
+      const int first = state.samples_done;
+      const int pass_end = checkpoints ? first + 1 : end;
+      round_context.pass =
+          SamplePass{first, pass_end, sums.data(), active.data(), first_half.data()};
+      runner->skip(static_cast<int>(tiles.size() - round_tiles.size()));
+      runner->run(round_context, round_tiles);
+      if (runner->cancelled()) break;
+      state.samples_done = pass_end;
+      // Within the round only: its end is polled after the decision below.
+      if (checkpoints && pass_end < end && clock.poll(&state)) {
+        result.stopped_at_checkpoint = true;
+        break;
+      }
+    }
+    if (runner->cancelled() || result.stopped_at_checkpoint) break;
     done = end;
-    ++result.rounds;
+    state.rounds = ++result.rounds;
     if (after_pass) runner->call(after_pass, done, *image);
     if (done >= spp) break;
-    if (s.time_limit_seconds > 0.0 && runner->seconds() >= s.time_limit_seconds) {
+    if (s.time_limit_seconds > 0.0 && clock.seconds() >= s.time_limit_seconds) {
       result.time_limit_reached = true;
       break;
     }
@@ -190,13 +297,13 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
         if (tile_active[k]) round_tiles[kept++] = round_tiles[k];
       round_tiles.resize(kept);
     }
+    if (checkpoints && clock.poll(&state)) result.stopped_at_checkpoint = true;
   }
   for (size_t i = 0; i < pixels; ++i)
     if (active[i]) samples[i] = static_cast<uint32_t>(done);
   result.cancelled = runner->cancelled();
-  if (!result.cancelled) runner->finish();
-  result.seconds = runner->seconds();
-  result.rays = runner->rays();
+  if (!result.cancelled && !result.stopped_at_checkpoint) runner->finish();
+  clock.finish(&result);
   result.samples_per_pixel = std::move(samples);
   return result;
 }
@@ -211,8 +318,8 @@ RenderResult render(const Integrator& integrator, const RenderContext& context, 
   *image = Image(s.width, s.height);
   const std::vector<TileRect> tiles = make_tiles(s);
   PassRunner runner(integrator, image, callbacks);
-  return s.adaptive() ? render_adaptive(context, tiles, &runner, image, callbacks.after_pass)
-                      : render_uniform(context, tiles, &runner, image, callbacks.after_pass);
+  return s.adaptive() ? render_adaptive(context, tiles, &runner, image, callbacks)
+                      : render_uniform(context, tiles, &runner, image, callbacks);
 }
 
 }  // namespace prism

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "renderer/integrator.h"
+#include "renderer/render_state.h"
 
 namespace prism {
 
@@ -19,6 +20,13 @@ struct RenderResult {
   bool time_limit_reached = false;
   // RenderCallbacks::cancel said stop: the image holds what the finished tiles wrote.
   bool cancelled = false;
+  // RenderCallbacks::stop said stop: the render ended at a pass boundary after handing its
+  // state to RenderCallbacks::save; the image is unfinished.
+  bool stopped_at_checkpoint = false;
+  // With RenderCallbacks::resume: the samples per pixel and the rays it brought in. `rays`
+  // and `seconds` count them too, so that they describe the whole image.
+  int resumed_samples = 0;
+  RayCounters resumed_rays;
   std::vector<uint32_t> samples_per_pixel;  // row-major: the samples each pixel took
 
   // Samples per pixel taken, over the whole image (one camera ray per sample).
@@ -47,6 +55,20 @@ struct RenderCallbacks {
   // uniform render without after_pass, whose single pass makes a tile index mean one piece
   // of work.
   std::function<std::optional<size_t>()> claim_tile;
+
+  // Checkpoints (renderer/render_state.h). With any of these set the render runs one sample
+  // per pixel per pass, keeping each pixel's sums between passes, and between passes (never
+  // within one, and not after the last) polls `checkpoint_due` and `stop`: either hands the
+  // state to `save`, and `stop` then ends the render (RenderResult::stopped_at_checkpoint).
+  // Called on the calling thread; the time they take is not counted as rendering.
+  std::function<bool()> checkpoint_due;
+  std::function<bool()> stop;
+  std::function<void(const RenderState&)> save;
+  // Continue from this state instead of sample 0; it must match the film
+  // (RenderState::mismatch; std::invalid_argument otherwise).
+  const RenderState* resume = nullptr;
+
+  bool checkpoints() const { return checkpoint_due || stop || save || resume; }
 };
 
 // The tiles render() splits the image into, row by row; RenderCallbacks::claim_tile hands out
@@ -66,6 +88,10 @@ std::vector<TileRect> make_tiles(const RenderSettings& settings);
 // once settings.time_limit_seconds has passed no new round starts. `callbacks.after_pass` then sees
 // the image after each round, with the most samples any pixel has taken; `callbacks.progress`
 // counts tiles against the rounds a render to settings.spp would need.
+//
+// With checkpoint callbacks the image is bit-identical too, however often the render was
+// stopped and resumed: every pass boundary leaves the sums an uninterrupted render holds
+// there, and an adaptive round split into passes decides only at its end.
 RenderResult render(const Integrator& integrator, const RenderContext& context, Image* image,
                     const RenderCallbacks& callbacks = {});
 

@@ -14,7 +14,8 @@ PACKAGES=(
   libopencolorio-dev opencolorio-tools
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libcli11-dev
-  # a job's fingerprint (session/job_fingerprint.h): XXH3, stable across machines
+  # job fingerprints and checkpoint files (session/job_fingerprint.h): XXH3, stable across
+  # machines
   libxxhash-dev
   # KHR_draco_mesh_compression: tinygltf is built without Draco, so scene_io decodes it
   libdraco-dev

@@ -107,6 +107,15 @@ struct JobCallbacks {
   ProgressCallback progress;                         // tiles done, of tiles planned
   std::function<bool()> cancel;                      // polled per tile: true stops
   std::function<void(const PassError&)> pass_error;  // with a reference, after each pass
+  // Checkpoints, as RenderCallbacks' (renderer/render.h): polled between passes; either
+  // true hands the state to `save_checkpoint`, and `stop` then ends the render at that
+  // pass boundary (RenderResult::stopped_at_checkpoint: nothing to write). `resume`
+  // continues a saved state; it must match the job's film (session/checkpoint_file.h
+  // reads one that does).
+  std::function<bool()> checkpoint_due;
+  std::function<bool()> stop;
+  std::function<void(const RenderState&)> save_checkpoint;
+  const RenderState* resume = nullptr;
 };
 
 struct RenderOutput {
@@ -125,6 +134,9 @@ struct RenderOutput {
   size_t lights = 0;
   double build_seconds = 0.0;  // building the BVH for this job; 0 when an earlier job's was reused
   std::vector<PassError> pass_errors;  // with a reference
+  // Samples per pixel the render continued from (JobCallbacks::resume), 0 when it started
+  // at the beginning; its EXR records them as prism:resumedSamples.
+  int resumed_samples = 0;
   RenderMetadata metadata;             // what its EXR records
   // With SessionOptions::distribute_frames: which rank this is and what the split cost. On
   // rank 0, `image` is the whole frame and `result` the frame's (rays summed over ranks,

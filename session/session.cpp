@@ -326,6 +326,10 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
   RenderCallbacks render_callbacks;
   render_callbacks.progress = callbacks.progress;
   render_callbacks.cancel = callbacks.cancel;
+  render_callbacks.checkpoint_due = callbacks.checkpoint_due;
+  render_callbacks.stop = callbacks.stop;
+  render_callbacks.save = callbacks.save_checkpoint;
+  render_callbacks.resume = callbacks.resume;
   if (!job.reference_path.empty()) {
     render_callbacks.after_pass = [&](int samples, const Image& so_far) {
       const ImageError e = compare_images(so_far, reference);
@@ -358,6 +362,7 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
       out.frame_split = split.gather(&out.image, &out.result);
     });
   }
+  out.resumed_samples = out.result.resumed_samples;
   out.metadata = metadata(job, p, camera, out);
   return out;
 }
@@ -394,6 +399,9 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Came
                     {"samplesTaken", std::to_string(out.result.rays[RayKind::camera])},
                     {"meanSpp", format_number(out.result.mean_spp(s))}});
   }
+  // A resumed render's image is the same as an uninterrupted one's; this says it was not.
+  if (out.resumed_samples > 0)
+    m.extra.push_back({"resumedSamples", std::to_string(out.resumed_samples)});
   const auto features = feature_metadata(out.features);
   m.extra.insert(m.extra.end(), features.begin(), features.end());
   if (!out.pass_errors.empty()) {
