@@ -14,8 +14,11 @@
 
 #include "apps/batch_file.h"
 #include "apps/command_line.h"
+#include "apps/stop_signals.h"
+#include "distributed/world.h"
 #include "renderer/version.h"
 #include "session/batch.h"
+#include "session/batch_records.h"
 
 namespace prism {
 namespace {
@@ -23,11 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
-
-std::atomic<int> g_stop_signal{0};
-extern "C" void on_stop_signal(int signal) {
-  g_stop_signal.store(signal);
-}
 
 std::string gib(uint64_t bytes) {
   char buffer[32];
@@ -63,32 +61,6 @@ fs::path common_folder(const std::vector<BatchJob>& jobs, const fs::path& fallba
     common = shared;
   }
   return common && !common->empty() ? *common : fallback;
-}
-
-json record_json(const JobRecord& r) {
-  json j = {{"index", r.index},
-            {"job", r.label},
-            {"name", r.name},
-            {"scene", r.scene},
-            {"camera", r.camera},
-            {"integrator", r.integrator},
-            {"spp", r.spp},
-            {"width", r.width},
-            {"height", r.height},
-            {"output", r.output},
-            {"status", to_string(r.status)},
-            {"error", r.error},
-            {"seconds", r.seconds},
-            {"render_seconds", r.render_seconds},
-            {"write_seconds", r.write_seconds},
-            {"load_seconds", r.load_seconds},
-            {"build_seconds", r.build_seconds},
-            {"rays", r.rays},
-            {"rays_per_second", r.rays_per_second},
-            {"scene_bytes", r.scene_bytes}};
-  if (r.reference_error)
-    j["reference"] = {{"rmse", r.reference_error->rmse}, {"relmse", r.reference_error->relmse}};
-  return j;
 }
 
 void write_report(const fs::path& path, const json& report) {
@@ -176,6 +148,8 @@ int run(const BatchCommandOptions& o) {
   BatchOptions options;
   options.threads = o.threads;
   options.force = o.force;
+  options.checkpoint_interval = o.checkpoint_interval;
+  options.distribute_jobs = true;  // under mpirun; a plain run is a world of one
   options.memory_budget_bytes = static_cast<uint64_t>(o.memory_budget_gib * double(1 << 30));
   options.load_memory_limit_bytes = static_cast<uint64_t>(o.memory_limit_gib * double(1 << 30));
   Batch batch(std::move(file.specs), options);
@@ -188,7 +162,11 @@ int run(const BatchCommandOptions& o) {
     return 2;
   }
 
+  // Every rank plans the same file and claims jobs from it; rank 0 alone prints and reports.
+  const distributed::World& world = distributed::World::process();
+  const bool root = world.root();
   if (o.dry_run) {
+    if (!root) return 0;
     for (const BatchJob& job : jobs) {
       const RenderJob& r = job.spec.render;
       const std::string res = r.width > 0 ? std::to_string(r.width) + "x" + std::to_string(r.height)
@@ -205,15 +183,24 @@ int run(const BatchCommandOptions& o) {
     return 0;
   }
 
-  std::signal(SIGINT, on_stop_signal);
-  std::signal(SIGTERM, on_stop_signal);
-  BatchProgress progress(!o.quiet, jobs.size());
+  // Before the first job: a SIGTERM while a scene loads is not lost either.
+  install_stop_signals(true);
+  BatchProgress progress(root && !o.quiet, jobs.size());
   BatchCallbacks callbacks;
   callbacks.job_started = [&](const BatchJob& job) { progress.started(job); };
   callbacks.progress = [&](const BatchJob&, int done, int total) { progress.tiles(done, total); };
   callbacks.job_finished = [&](const JobRecord& r) { progress.finished(r); };
-  callbacks.stop = [] { return g_stop_signal.load() != 0; };
-  std::vector<JobRecord> records = batch.run(jobs, callbacks);
+  callbacks.abandon = [] { return interrupted(); };
+  callbacks.stop = [] { return stop_requested(); };
+  callbacks.checkpoint_now = [] { return checkpoint_requested(); };
+  std::vector<JobRecord> records;
+  try {
+    records = batch.run(jobs, callbacks);
+  } catch (...) {
+    restore_stop_signals();
+    throw;
+  }
+  restore_stop_signals();
   progress.finish();
   // Jobs the file got wrong, kept going past, are failures of this batch too.
   for (const JobFileError& e : file.errors) {
@@ -226,6 +213,7 @@ int run(const BatchCommandOptions& o) {
     records.push_back(r);
   }
 
+  if (!root) return 0;
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
   size_t counts[4] = {};
   double job_seconds = 0.0;
@@ -237,6 +225,7 @@ int run(const BatchCommandOptions& o) {
                  {"prism", std::string(kVersion) + " " + kBuildCommit},
                  {"job_file", fs::absolute(o.job_file).lexically_normal().string()},
                  {"shard", std::to_string(shard) + "/" + std::to_string(shards)},
+                 {"ranks", world.size()},
                  {"wall_seconds", wall},
                  {"scenes_loaded", batch.scenes().loads()},
                  {"scenes_evicted", batch.scenes().evictions()},
@@ -262,10 +251,11 @@ int run(const BatchCommandOptions& o) {
         batch.scenes().evictions(), gib(batch.scenes().bytes()).c_str());
     std::printf("report       %s\n", report_path.c_str());
   }
-  if (const int signal = g_stop_signal.load()) {
-    std::fprintf(stderr,
-                 "prism: stopped by signal %d; resume with the same command: prism batch %s\n",
-                 signal, o.job_file.c_str());
+  if (const int signal = stop_signal()) {
+    std::fprintf(
+        stderr, "prism: stopped by %s: no job half-written%s; to resume, run: prism batch %s\n",
+        stop_signal_name(signal), signal == SIGINT ? "" : ", the running one saved a checkpoint",
+        o.job_file.c_str());
     return 128 + signal;
   }
   return counts[static_cast<size_t>(JobStatus::failed)] > 0 ? 1 : 0;
@@ -296,6 +286,11 @@ CLI::App* add_batch_command(CLI::App& app, BatchCommandOptions* o) {
   cmd->add_option("--report", o->report,
                   "Where to write the JSON report (default: batch-report.json in the folder "
                   "holding every output)");
+  cmd->add_option("--checkpoint-interval", o->checkpoint_interval,
+                  "Seconds between a running job's checkpoints (OUTPUT.checkpoint), which the "
+                  "next run continues from; SIGTERM and SIGUSR1 save one and stop; 0 = none")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", o->quiet, "No progress and no summary table");
   return cmd;
 }

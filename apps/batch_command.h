@@ -18,6 +18,7 @@ struct BatchCommandOptions {
   double memory_limit_gib = 8.0;   // each load
   std::string shard;               // "K/N", empty = every job
   std::string report;              // empty: batch-report.json beside the outputs
+  double checkpoint_interval = 300.0;
   bool quiet = false;
 };
 

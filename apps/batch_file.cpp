@@ -141,6 +141,7 @@ std::optional<Failure> make_spec(const json& job, BatchJobSpec* spec) {
   spec->render = request.job;
   spec->outputs = {request.files.exr, request.files.preview, request.files.sample_counts};
   spec->pixel_type = request.files.pixel_type;
+  spec->checkpoint_interval = request.checkpoint_interval;
   if (spec->render.camera == "all") {
     spec->every_camera = true;
     spec->render.camera.clear();

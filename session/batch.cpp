@@ -5,10 +5,14 @@
 #include <filesystem>
 #include <map>
 #include <numeric>
+#include <span>
 
 #include <tbb/task_group.h>
 
+#include "distributed/world.h"
 #include "renderer/image/image_metrics.h"
+#include "session/batch_records.h"
+#include "session/checkpoint_file.h"
 
 namespace prism {
 namespace {
@@ -66,6 +70,43 @@ std::string same_file_key(const std::string& path) {
   std::error_code error;
   const fs::path p = fs::weakly_canonical(path, error);
   return error ? fs::absolute(path).lexically_normal().string() : p.string();
+}
+
+// The record's description of its job (everything but what happened to it).
+void describe(const BatchJob& job, JobRecord* record) {
+  record->index = job.index;
+  record->label = job.label();
+  record->name = job.spec.name;
+  record->scene = job.spec.scene.path;
+  record->camera = job.camera_label;
+  record->integrator = job.spec.render.integrator;
+  record->output = job.files.exr;
+  record->spp = job.spec.render.film.spp;
+  if (record->width == 0) {
+    record->width = job.spec.render.width;
+    record->height = job.spec.render.height;
+  }
+}
+
+// Every rank's records of the jobs it ran, at rank 0; slots no rank ran stay cancelled.
+void gather_records(const distributed::World& world, const std::vector<uint8_t>& ran,
+                    std::vector<JobRecord>* records) {
+  nlohmann::json mine = nlohmann::json::array();
+  for (size_t slot = 0; slot < records->size(); ++slot)
+    if (ran[slot]) mine.push_back({{"slot", slot}, {"record", record_json((*records)[slot])}});
+  const std::string text = mine.dump();
+  const auto all = distributed::gather_at_root(
+      world, std::as_bytes(std::span<const char>(text.data(), text.size())));
+  if (!world.root()) return;
+  for (size_t rank = 1; rank < all.size(); ++rank) {
+    const auto& bytes = all[rank];
+    const nlohmann::json theirs = nlohmann::json::parse(
+        std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    for (const nlohmann::json& item : theirs) {
+      const size_t slot = item.at("slot").get<size_t>();
+      if (slot < records->size()) (*records)[slot] = record_from_json(item.at("record"));
+    }
+  }
 }
 
 }  // namespace
@@ -239,25 +280,28 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
              first[SceneCache::key(jobs[b].spec.scene)];
     });
   }
+  const distributed::World* world =
+      options_.distribute_jobs ? &distributed::World::process() : nullptr;
+  std::unique_ptr<distributed::SharedCounter> claims;
+  if (world && world->size() > 1) claims = std::make_unique<distributed::SharedCounter>(*world);
+  std::vector<uint8_t> ran(jobs.size(), 0);
   bool stopping = false;
-  for (size_t slot : order) {
+  for (size_t position = 0; position < order.size(); ++position) {
+    if (!stopping &&
+        ((callbacks.stop && callbacks.stop()) || (callbacks.abandon && callbacks.abandon())))
+      stopping = true;
+    if (stopping) break;
+    // Several ranks claim positions as each becomes free: the next job goes to whichever
+    // rank is idle first, so a long job does not hold up the rest.
+    if (claims) {
+      position = static_cast<size_t>(claims->next());
+      if (position >= order.size()) break;
+    }
+    const size_t slot = order[position];
     const BatchJob& job = jobs[slot];
     JobRecord& record = records[slot];
-    record.index = job.index;
-    record.label = job.label();
-    record.name = job.spec.name;
-    record.scene = job.spec.scene.path;
-    record.camera = job.camera_label;
-    record.integrator = job.spec.render.integrator;
-    record.output = job.files.exr;
-    record.spp = job.spec.render.film.spp;
-    record.width = job.spec.render.width;
-    record.height = job.spec.render.height;
-    if (!stopping && callbacks.stop && callbacks.stop()) stopping = true;
-    if (stopping) {
-      record.status = JobStatus::cancelled;
-      continue;
-    }
+    ran[slot] = 1;
+    record.rank = world ? world->rank() : 0;
     if (callbacks.job_started) callbacks.job_started(job);
     const auto start = Clock::now();
     if (!job.error.empty()) {
@@ -276,6 +320,11 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
     if (callbacks.job_finished) callbacks.job_finished(record);
   }
   finish_write(&records, callbacks);
+  for (size_t slot = 0; slot < jobs.size(); ++slot) describe(jobs[slot], &records[slot]);
+  if (claims) {
+    claims.reset();  // collective: every rank is done claiming
+    gather_records(*world, ran, &records);
+  }
   return records;
 }
 
@@ -293,13 +342,42 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
     return;
   }
   Session& session = *entry->session;
+  const std::string job_print = fingerprint(job, entry->inputs);
   JobCallbacks job_callbacks;
   if (callbacks.progress)
     job_callbacks.progress = [&](int done, int total) { callbacks.progress(job, done, total); };
-  if (callbacks.stop) job_callbacks.cancel = callbacks.stop;
+  if (callbacks.abandon) job_callbacks.cancel = callbacks.abandon;
+  const double interval = job.spec.checkpoint_interval > 0.0 ? job.spec.checkpoint_interval
+                                                             : options_.checkpoint_interval;
+  const std::string checkpoint = checkpoint_path(job.files.exr);
+  std::optional<RenderState> resume;
+  auto last_save = Clock::now();
+  std::string save_error;
   RenderOutput out;
   try {
     session.check(job.spec.render);
+    if (interval > 0.0) {
+      std::error_code error;
+      if (fs::exists(checkpoint, error)) {
+        // Another job's, or a damaged one, is rendered over from the start (and replaced).
+        CheckpointRead read = read_checkpoint(checkpoint, session.film(job.spec.render), job_print);
+        if (read.state) resume = std::move(read.state);
+      }
+      job_callbacks.checkpoint_due = [&] {
+        return (callbacks.checkpoint_now && callbacks.checkpoint_now()) ||
+               seconds_since(last_save) >= interval;
+      };
+      if (callbacks.stop) job_callbacks.stop = callbacks.stop;
+      job_callbacks.save_checkpoint = [&](const RenderState& state) {
+        try {
+          write_checkpoint(checkpoint, state, job_print);
+        } catch (const std::exception& e) {
+          save_error = e.what();  // the render goes on; the previous checkpoint stays
+        }
+        last_save = Clock::now();
+      };
+      job_callbacks.resume = resume ? &*resume : nullptr;
+    }
     out = session.render(job.spec.render, job_callbacks);
   } catch (const RequestError& e) {
     record.status = JobStatus::failed;
@@ -320,16 +398,22 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
       out.result.seconds > 0.0 ? static_cast<double>(record.rays) / out.result.seconds : 0.0;
   record.scene_bytes = session.memory_bytes();
   if (!out.pass_errors.empty()) record.reference_error = out.pass_errors.back();
-  if (out.result.cancelled) {
+  record.resumed_samples = out.resumed_samples;
+  if (out.result.cancelled || out.result.stopped_at_checkpoint) {
     record.status = JobStatus::cancelled;
+    record.error =
+        out.result.stopped_at_checkpoint
+            ? (save_error.empty()
+                   ? "stopped; its checkpoint " + checkpoint + " continues it on the next run"
+                   : "stopped, but its checkpoint could not be saved: " + save_error)
+            : "abandoned";
     return;
   }
   record.status = JobStatus::rendered;
-  out.metadata.extra.insert(out.metadata.extra.end(),
-                            {{"jobName", job.spec.name},
-                             {"jobFingerprint", fingerprint(job, entry->inputs)},
-                             {"jobInputs", format_inputs(entry->inputs)},
-                             {"jobSettings", job.settings}});
+  out.metadata.extra.insert(out.metadata.extra.end(), {{"jobName", job.spec.name},
+                                                       {"jobFingerprint", job_print},
+                                                       {"jobInputs", format_inputs(entry->inputs)},
+                                                       {"jobSettings", job.settings}});
 
   // One write in flight: the previous job's files are done before this one's start.
   finish_write(records, callbacks);
@@ -346,6 +430,9 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
       const auto write_start = Clock::now();
       try {
         write_output_files(p->files, p->output, *p->colour);
+        // The image is on disk: its checkpoint has nothing left to continue.
+        std::error_code ignored;
+        fs::remove(checkpoint_path(p->files.exr), ignored);
       } catch (const std::exception& e) {
         p->error = e.what();
       }

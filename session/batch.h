@@ -47,6 +47,7 @@ struct BatchJobSpec {
   std::string variant;
   OutputPattern outputs;
   ExrPixelType pixel_type = ExrPixelType::float32;
+  double checkpoint_interval = 0.0;  // the job's own; 0 = the batch's
 };
 
 // A problem with the batch as a whole, before anything renders: two jobs writing the same
@@ -89,6 +90,8 @@ struct JobRecord {
   double write_seconds = 0.0;   // writing its files
   double load_seconds = 0.0;    // loading its scene, when this job caused it
   double build_seconds = 0.0;   // building its BVH, when this job caused it
+  int resumed_samples = 0;      // samples per pixel continued from a checkpoint
+  int rank = 0;                 // the MPI rank that ran it
   uint64_t rays = 0;
   double rays_per_second = 0.0;
   uint64_t scene_bytes = 0;                  // what its scene's session held after the render
@@ -100,6 +103,13 @@ struct BatchOptions {
   uint64_t memory_budget_bytes = uint64_t{8} << 30;      // the scenes kept loaded
   uint64_t load_memory_limit_bytes = uint64_t{8} << 30;  // each load's (SessionOptions)
   bool force = false;                                    // render even up-to-date jobs
+  // Seconds between a running job's checkpoints (OUTPUT.checkpoint beside its output,
+  // session/checkpoint_file.h), which a later run continues from; 0 = none, and then a
+  // stopped job starts over.
+  double checkpoint_interval = 300.0;
+  // Spread the jobs over the ranks an MPI launcher started (distributed/world.h): each rank
+  // claims the next job as it becomes free, and rank 0's records are every rank's.
+  bool distribute_jobs = false;
 };
 
 struct BatchCallbacks {
@@ -108,8 +118,13 @@ struct BatchCallbacks {
   // The running job's tiles, as JobCallbacks::progress.
   std::function<void(const BatchJob&, int tiles_done, int tiles_total)> progress;
   // Polled between jobs and per tile: true stops starting jobs and abandons the running one
-  // (nothing of it is written).
+  // (nothing of it is written; its last checkpoint stays).
+  std::function<bool()> abandon;
+  // Polled between jobs and passes: true stops starting jobs and ends the running one at its
+  // next pass boundary with a checkpoint (what a scheduler's SIGTERM before preemption asks).
   std::function<bool()> stop;
+  // Polled between passes: true saves the running job's checkpoint now and carries on.
+  std::function<bool()> checkpoint_now;
 };
 
 class Batch {
@@ -129,7 +144,9 @@ class Batch {
   std::vector<BatchJob> shard(int shard, int shards);
 
   // Renders `jobs` (a plan or a shard of it), grouped by scene so each is loaded once, and
-  // returns one record per job in the order of `jobs`.
+  // returns one record per job in the order of `jobs`. With distribute_jobs under several
+  // ranks every rank must call it with the same jobs; rank 0 gets every rank's records, the
+  // others their own (the rest cancelled).
   std::vector<JobRecord> run(const std::vector<BatchJob>& jobs, const BatchCallbacks& callbacks);
 
   // Whether the output of `job` exists with the fingerprint the job would record now.
