@@ -72,5 +72,42 @@ grep -q orted "$TMP/strace" && fail "a plain render started orted: $(grep orted 
 [[ $execs -eq 1 ]] || fail "a plain render ran $execs programs: $(grep 'execve(' "$TMP/strace")"
 echo "ok: a plain render ran $execs program (no orted)"
 
+# A batch over 2 ranks: the ranks claim jobs as they become free, each output is the single
+# process's bit for bit, and rank 0's report has every job, run by both ranks between them.
+mkdir -p "$TMP/batch-one" "$TMP/batch-mpi"
+BATCH_SCENE=$(realpath "$SCENE")
+for folder in batch-one batch-mpi; do
+  cat >"$TMP/$folder/jobs.json" <<EOF
+{"version": 1, "defaults": {"resolution": "96x72"},
+ "jobs": [{"name": "w", "scene": "$BATCH_SCENE", "integrator": ["phong", "shadow", "whitted"],
+           "spp": [1, 4], "output": "{integrator}-{spp}.exr"}]}
+EOF
+done
+"$PRISM" batch "$TMP/batch-one/jobs.json" --quiet || fail "batch in one process"
+"${MPIRUN[@]}" -n 2 "$PRISM" batch "$TMP/batch-mpi/jobs.json" --threads 1 --quiet \
+  2>"$TMP/batch.err" || fail "batch over 2 ranks: $(cat "$TMP/batch.err")"
+for exr in "$TMP"/batch-one/*.exr; do
+  same_pixels "$exr" "$TMP/batch-mpi/$(basename "$exr")" "batch over 2 ranks, $(basename "$exr")"
+done
+ranks_used=$(/usr/bin/python3 -c '
+import json, sys
+report = json.load(open(sys.argv[1]))
+jobs = report["jobs"]
+assert len(jobs) == 6 and all(j["status"] == "rendered" for j in jobs), jobs
+print(report["ranks"], len({j["rank"] for j in jobs}))' "$TMP/batch-mpi/batch-report.json") ||
+  fail "batch over 2 ranks: report incomplete"
+[[ $ranks_used == "2 2" ]] ||
+  fail "batch over 2 ranks: ranks in the report, ranks that ran jobs: $ranks_used"
+echo "ok: batch over 2 ranks: 6 outputs identical to one process; ranks, ranks used: $ranks_used"
+# A rerun over 2 ranks skips every job, whichever rank claims it.
+"${MPIRUN[@]}" -n 2 "$PRISM" batch "$TMP/batch-mpi/jobs.json" --threads 1 --quiet ||
+  fail "batch rerun over 2 ranks"
+skipped=$(/usr/bin/python3 -c '
+import json, sys
+print(sum(j["status"] == "skipped" for j in json.load(open(sys.argv[1]))["jobs"]))' \
+  "$TMP/batch-mpi/batch-report.json")
+[[ $skipped == 6 ]] || fail "batch rerun over 2 ranks skipped $skipped of 6"
+echo "ok: batch rerun over 2 ranks skipped $skipped of 6"
+
 echo "$failures failed"
 [[ $failures -eq 0 ]]
