@@ -88,6 +88,15 @@ std::string parse_render(const std::vector<std::string>& args, RenderOptions* op
   return "";
 }
 
+// Whether `key` is one of `prism render`'s flags (options that take no value).
+bool is_render_flag(const std::string& key) {
+  CLI::App app;
+  RenderOptions options;
+  CLI::App* render = add_render_command(app, &options);
+  const CLI::Option* option = render->get_option_no_throw("--" + key);
+  return option && option->get_expected_max() == 0;
+}
+
 // "--spp: Value 0 not in range" -> field "spp", message "Value 0 not in range".
 Failure split_flag_message(const std::string& message, const std::string& fallback) {
   if (message.rfind("--", 0) == 0) {
@@ -124,7 +133,8 @@ std::optional<Failure> make_spec(const json& job, BatchJobSpec* spec) {
       RenderOptions alone;
       const std::string m = parse_render(job_arguments(job, &key), &alone);
       if (m.find("not expected") != std::string::npos)
-        return Failure{key, "no such key: prism render has no --" + key};
+        return is_render_flag(key) ? Failure{key, "is a flag: give true or false"}
+                                   : Failure{key, "no such key: prism render has no --" + key};
       if (!m.empty()) return split_flag_message(m, key);
     }
     return split_flag_message(message, "job");
