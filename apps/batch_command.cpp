@@ -227,8 +227,8 @@ int run(const BatchCommandOptions& o) {
                  {"shard", std::to_string(shard) + "/" + std::to_string(shards)},
                  {"ranks", world.size()},
                  {"wall_seconds", wall},
-                 {"scenes_loaded", batch.scenes().loads()},
-                 {"scenes_evicted", batch.scenes().evictions()},
+                 {"scenes_loaded", batch.scene_loads()},
+                 {"scenes_evicted", batch.scene_evictions()},
                  {"jobs", json::array()}};
   for (const JobRecord& r : records) report["jobs"].push_back(record_json(r));
   for (const EnumName<JobStatus>& s : kJobStatusNames)
@@ -247,8 +247,8 @@ int run(const BatchCommandOptions& o) {
     std::printf(
         "%zu rendered, %zu skipped, %zu failed, %zu cancelled in %.3f s (jobs' own load, build, "
         "render and write %.3f s); %d scene loads, %d evicted, %s kept\n",
-        counts[0], counts[1], counts[2], counts[3], wall, job_seconds, batch.scenes().loads(),
-        batch.scenes().evictions(), gib(batch.scenes().bytes()).c_str());
+        counts[0], counts[1], counts[2], counts[3], wall, job_seconds, batch.scene_loads(),
+        batch.scene_evictions(), gib(batch.scenes().bytes()).c_str());
     std::printf("report       %s\n", report_path.c_str());
   }
   if (const int signal = stop_signal()) {

@@ -22,14 +22,14 @@ Imath::Box3d scene_bounds(const SceneDescription& scene);
 // The world point to rebase the scene on for renders from `camera`
 // (GeometryOptions::world_origin). Floats are finest near 0, so the origin belongs where the
 // hits are. A scene whose bounds are at most kSharedOriginExtent across is rebased on their
-// centre, whatever the camera: every hit is then within half that size of 0 (a rounding
-// error below 2^-15 m), and every camera of the scene shares one BVH (a batch renders all
+// centre, whatever the camera: every hit is then within 32 m of 0, where the ray offset
+// (256 ulps) is below 1 mm, and every camera of the scene shares one BVH (a batch renders all
 // of a file's cameras from one build). A larger scene is rebased on the camera's position
 // clamped into its bounds: a camera inside them is its own best origin (what it sees nearby
 // is rounded finest), and one outside, however far, would otherwise leave every hit with the
 // rounding error, and so the ray offset, of its distance from the camera: 1.6 cm for a
 // sphere 1 km away (docs/accuracy.md, "Precision far from the camera").
-inline constexpr double kSharedOriginExtent = 1024.0;
+inline constexpr double kSharedOriginExtent = 64.0;
 V3d rebasing_origin(const SceneDescription& scene, const CameraDescription& camera);
 
 // How an orthographic camera's xmag and ymag fit an image of `width` x `height`. glTF gives

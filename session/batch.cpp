@@ -325,6 +325,11 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
     claims.reset();  // collective: every rank is done claiming
     gather_records(*world, ran, &records);
   }
+  uint64_t counts[2] = {static_cast<uint64_t>(cache_->loads()),
+                        static_cast<uint64_t>(cache_->evictions())};
+  if (world && world->size() > 1) distributed::sum_at_root(*world, counts);
+  scene_loads_ = static_cast<int>(counts[0]);
+  scene_evictions_ = static_cast<int>(counts[1]);
   return records;
 }
 

@@ -153,6 +153,9 @@ class Batch {
   bool up_to_date(const BatchJob& job);
 
   const SceneCache& scenes() const { return *cache_; }
+  // Scene loads and evictions of the last run, over every rank (at rank 0).
+  int scene_loads() const { return scene_loads_; }
+  int scene_evictions() const { return scene_evictions_; }
 
  private:
   // Renders `job` into (*records)[slot]; a rendered job's files are then being written.
@@ -166,6 +169,7 @@ class Batch {
   std::unique_ptr<SceneCache> cache_;
   std::vector<BatchJob> planned_;
   bool planned_done_ = false;
+  int scene_loads_ = 0, scene_evictions_ = 0;
   // The files of the last rendered job, written while the next one renders.
   struct PendingWrite;
   std::unique_ptr<PendingWrite> pending_;
