@@ -38,6 +38,8 @@ PACKAGES=(
   # `mpirun -n R prism render` splits a frame over MPI ranks (distributed/); tests/cli/mpi.sh
   # checks it against a single process
   libopenmpi-dev openmpi-bin
+  # tests/cli/slurm.sh runs docs/examples/prism-batch.sbatch on a single-node Slurm cluster
+  slurm-wlm munge
   "$@"
 )
 
