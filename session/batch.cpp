@@ -279,6 +279,8 @@ bool Batch::up_to_date(const BatchJob& job) {
 std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
                                   const BatchCallbacks& callbacks) {
   std::vector<JobRecord> records(jobs.size());
+  // Described before the first job: job_finished callbacks print the label and output.
+  for (size_t slot = 0; slot < jobs.size(); ++slot) describe(jobs[slot], &records[slot]);
   // Grouped by scene in the order scenes first appear, so each is loaded once even when a
   // job file interleaves them; the same order on every run.
   std::vector<size_t> order(jobs.size());
@@ -331,7 +333,6 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
     if (callbacks.job_finished) callbacks.job_finished(record);
   }
   finish_write(&records, callbacks);
-  for (size_t slot = 0; slot < jobs.size(); ++slot) describe(jobs[slot], &records[slot]);
   if (claims) {
     claims.reset();  // collective: every rank is done claiming
     gather_records(*world, ran, &records);
