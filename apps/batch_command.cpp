@@ -130,6 +130,16 @@ class BatchProgress {
   Clock::time_point start_ = Clock::now(), last_{};
 };
 
+// The command that continues this run: the same jobs (its shard, --keep-going's) and the same
+// report; not --force, which would render again what is now done.
+std::string resume_command(const BatchCommandOptions& o) {
+  std::string command = "prism batch " + o.job_file;
+  if (o.keep_going) command += " --keep-going";
+  if (!o.shard.empty()) command += " --shard " + o.shard;
+  if (!o.report.empty()) command += " --report " + o.report;
+  return command;
+}
+
 int run(const BatchCommandOptions& o) {
   const auto wall_start = Clock::now();
   int shard = 0, shards = 1;
@@ -252,10 +262,10 @@ int run(const BatchCommandOptions& o) {
     std::printf("report       %s\n", report_path.c_str());
   }
   if (const int signal = stop_signal()) {
-    std::fprintf(
-        stderr, "prism: stopped by %s: no job half-written%s; to resume, run: prism batch %s\n",
-        stop_signal_name(signal), signal == SIGINT ? "" : ", the running one saved a checkpoint",
-        o.job_file.c_str());
+    std::fprintf(stderr, "prism: stopped by %s: no job half-written%s; to resume, run: %s\n",
+                 stop_signal_name(signal),
+                 signal == SIGINT ? "" : ", the running one saved a checkpoint",
+                 resume_command(o).c_str());
     return 128 + signal;
   }
   return counts[static_cast<size_t>(JobStatus::failed)] > 0 ? 1 : 0;

@@ -152,6 +152,11 @@ std::optional<Failure> make_spec(const json& job, BatchJobSpec* spec) {
   spec->outputs = {request.files.exr, request.files.preview, request.files.sample_counts};
   spec->pixel_type = request.files.pixel_type;
   spec->checkpoint_interval = request.checkpoint_interval;
+  for (const auto& [field, pattern] :
+       {std::pair{"output", &spec->outputs.exr}, std::pair{"preview", &spec->outputs.preview},
+        std::pair{"sample-count-image", &spec->outputs.sample_counts}})
+    if (const std::string problem = placeholder_problem(*pattern); !problem.empty())
+      return Failure{field, problem};
   if (spec->render.camera == "all") {
     spec->every_camera = true;
     spec->render.camera.clear();

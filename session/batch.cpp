@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <numeric>
+#include <set>
 #include <span>
 
 #include <tbb/task_group.h>
@@ -42,8 +43,12 @@ double integrator_cost(const std::string& integrator) {
   return 2.5;
 }
 
+const std::set<std::string> kPlaceholders = {"scene", "camera", "integrator", "spp", "job"};
+
 std::string substitute(const std::string& pattern, const std::map<std::string, std::string>& values,
                        const std::string& where) {
+  if (const std::string problem = placeholder_problem(pattern); !problem.empty())
+    throw BatchError(where + ": " + problem);
   std::string out;
   size_t i = 0;
   while (i < pattern.size()) {
@@ -53,14 +58,7 @@ std::string substitute(const std::string& pattern, const std::map<std::string, s
       break;
     }
     const size_t close = pattern.find('}', open);
-    if (close == std::string::npos)
-      throw BatchError(where + ": " + pattern + ": '{' without a closing '}'");
-    const std::string name = pattern.substr(open + 1, close - open - 1);
-    const auto it = values.find(name);
-    if (it == values.end())
-      throw BatchError(where + ": " + pattern + ": no placeholder {" + name +
-                       "} (there are {scene}, {camera}, {integrator}, {spp} and {job})");
-    out += pattern.substr(i, open - i) + it->second;
+    out += pattern.substr(i, open - i) + values.at(pattern.substr(open + 1, close - open - 1));
     i = close + 1;
   }
   return out;
@@ -110,6 +108,19 @@ void gather_records(const distributed::World& world, const std::vector<uint8_t>&
 }
 
 }  // namespace
+
+std::string placeholder_problem(const std::string& pattern) {
+  for (size_t open = pattern.find('{'); open != std::string::npos;
+       open = pattern.find('{', open + 1)) {
+    const size_t close = pattern.find('}', open);
+    if (close == std::string::npos) return pattern + ": '{' without a closing '}'";
+    const std::string name = pattern.substr(open + 1, close - open - 1);
+    if (!kPlaceholders.count(name))
+      return pattern + ": no placeholder {" + name +
+             "} (there are {scene}, {camera}, {integrator}, {spp} and {job})";
+  }
+  return "";
+}
 
 std::string BatchJob::label() const {
   std::string text = "jobs[" + std::to_string(spec.file_index) + "] '" + spec.name + "'";
@@ -185,12 +196,12 @@ const std::vector<BatchJob>& Batch::plan() {
           {"spp", std::to_string(spec.render.film.spp)},
           {"job", file_name_part(spec.name)}};
       const std::string where = job.label();
-      job.files.exr = substitute(spec.outputs.exr, values, where + ".output");
+      job.files.exr = substitute(spec.outputs.exr, values, where + ": output");
       if (!spec.outputs.preview.empty())
-        job.files.preview = substitute(spec.outputs.preview, values, where + ".preview");
+        job.files.preview = substitute(spec.outputs.preview, values, where + ": preview");
       if (!spec.outputs.sample_counts.empty())
         job.files.sample_counts =
-            substitute(spec.outputs.sample_counts, values, where + ".sample-count-image");
+            substitute(spec.outputs.sample_counts, values, where + ": sample-count-image");
       job.files.pixel_type = spec.pixel_type;
       for (const std::string* path :
            {&job.files.exr, &job.files.preview, &job.files.sample_counts}) {
@@ -268,6 +279,8 @@ bool Batch::up_to_date(const BatchJob& job) {
 std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
                                   const BatchCallbacks& callbacks) {
   std::vector<JobRecord> records(jobs.size());
+  // Described before the first job: job_finished callbacks print the label and output.
+  for (size_t slot = 0; slot < jobs.size(); ++slot) describe(jobs[slot], &records[slot]);
   // Grouped by scene in the order scenes first appear, so each is loaded once even when a
   // job file interleaves them; the same order on every run.
   std::vector<size_t> order(jobs.size());
@@ -320,7 +333,6 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
     if (callbacks.job_finished) callbacks.job_finished(record);
   }
   finish_write(&records, callbacks);
-  for (size_t slot = 0; slot < jobs.size(); ++slot) describe(jobs[slot], &records[slot]);
   if (claims) {
     claims.reset();  // collective: every rank is done claiming
     gather_records(*world, ran, &records);

@@ -56,6 +56,11 @@ struct BatchError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Why an output pattern cannot be substituted (a placeholder that is not one, a '{' left
+// open), or "" when it can: a job file checks its jobs with it before planning, so that such
+// a job fails alone (prism batch --keep-going) instead of the whole plan.
+std::string placeholder_problem(const std::string& pattern);
+
 // One render of the batch.
 struct BatchJob {
   int index = 0;  // in the expanded list, the order of the file
