@@ -349,9 +349,10 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
                        const BatchCallbacks& callbacks) {
   JobRecord& record = (*records)[slot];
   const auto start = Clock::now();
-  const int loads_before = cache_->loads();
   const auto entry = cache_->get(job.spec.scene);
-  if (cache_->loads() != loads_before && entry->session)
+  // The first job of a scene pays for its load, even when planning did it (to list the
+  // cameras of "camera": "all"), so that the jobs' times add up to the batch's.
+  if (entry->session && charged_loads_.insert(entry->session).second)
     record.load_seconds = entry->session->load_seconds();
   if (!entry->session) {
     record.status = JobStatus::failed;

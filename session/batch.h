@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,9 @@ class Batch {
   std::vector<BatchJob> planned_;
   bool planned_done_ = false;
   int scene_loads_ = 0, scene_evictions_ = 0;
+  // Sessions whose load a job's record carries; weak, and compared by owner, so that an
+  // evicted session is neither kept alive nor mistaken for a later one at its address.
+  std::set<std::weak_ptr<Session>, std::owner_less<>> charged_loads_;
   // The files of the last rendered job, written while the next one renders.
   struct PendingWrite;
   std::unique_ptr<PendingWrite> pending_;
