@@ -15,6 +15,8 @@
 #include <system_error>
 #include <vector>
 
+#include "renderer/temporary_files.h"
+
 namespace prism {
 namespace {
 
@@ -206,30 +208,6 @@ class Decoder {
   HashState hash_;
 };
 
-// ".NAME.tmp-": the prefix of the temporary files beside `target`, as image_output's.
-std::string temp_prefix(const fs::path& target) {
-  return "." + target.filename().string() + ".tmp-";
-}
-
-// A kill -9 during a write leaves its temporary behind; the next write removes those whose
-// writer (named by the PID in the name) no longer exists.
-void remove_stale_temp_files(const fs::path& dir, const fs::path& target) {
-  const std::string prefix = temp_prefix(target);
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const char* digits = name.c_str() + prefix.size();
-    char* after = nullptr;
-    errno = 0;
-    const long pid = std::strtol(digits, &after, 10);
-    if (errno != 0 || after == digits || *after != '\0' || pid <= 0 || pid == ::getpid()) continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
-    std::error_code remove_ec;
-    fs::remove(it->path(), remove_ec);
-  }
-}
-
 size_t expected_file_bytes(size_t fingerprint_bytes, size_t pixels, bool adaptive) {
   const size_t per_pixel = kSumsBytes + (adaptive ? kSumsBytes + 1 + 4 + 4 : 0);
   return kFixedHeaderBytes + fingerprint_bytes + pixels * per_pixel + kHashBytes;
@@ -244,8 +222,8 @@ void write_checkpoint(const std::string& path, const RenderState& state,
   const fs::path target(path);
   fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
-  remove_stale_temp_files(dir, target);
-  const std::string temp = (dir / (temp_prefix(target) + std::to_string(::getpid()))).string();
+  remove_stale_temporaries(dir, target);
+  const std::string temp = (dir / temporary_name(target)).string();
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)
     throw std::runtime_error(path + ": cannot create " + temp + ": " + std::strerror(errno));

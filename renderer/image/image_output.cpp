@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "renderer/temporary_files.h"
 #include "renderer/version.h"
 
 namespace fs = std::filesystem;
@@ -95,63 +96,19 @@ void install_signal_cleanup() {
   (void)installed;
 }
 
-// ".NAME.tmp-" for a target NAME: the prefix of its temporary files, with NAME cut so that a
-// temporary name (prefix, PID, counter, extension) stays within NAME_MAX when NAME itself does.
-std::string temp_prefix(const fs::path& target_path) {
-  const std::string filename = target_path.filename().string();
-  constexpr std::size_t kSuffix = 1 + 5 + 20 + 1 + 10 + 16;  // ".", ".tmp-", pid, "-", n, ext
-  const std::size_t keep = std::min<std::size_t>(filename.size(), NAME_MAX - kSuffix);
-  // Appended piece by piece: GCC 12 reports a false -Wrestrict for "." + std::string&&.
-  std::string prefix(".");
-  prefix += filename.substr(0, keep);
-  prefix += ".tmp-";
-  return prefix;
-}
-
-// The extension kept on a temporary name, in case anything downstream infers the format from
-// it; an absurdly long one is dropped rather than cut.
-std::string temp_extension(const fs::path& target_path) {
-  const std::string ext = target_path.extension().string();
-  return ext.size() <= 16 ? ext : std::string();
-}
-
-// Removes the temporary files that processes which no longer exist left for this target (a
-// kill -9, a power cut): their names carry the writer's PID.
-void remove_stale_temp_files(const fs::path& dir, const fs::path& target_path) {
-  const std::string prefix = temp_prefix(target_path);
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const char* digits = name.c_str() + prefix.size();
-    char* after = nullptr;
-    errno = 0;
-    const long pid = std::strtol(digits, &after, 10);
-    if (errno != 0 || after == digits || *after != '-' || pid <= 0) continue;
-    if (pid == ::getpid()) continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours
-    std::error_code remove_ec;
-    fs::remove(it->path(), remove_ec);
-  }
-}
-
 // The temporary file lives beside the target so the final rename stays on one file system
 // (and is therefore atomic). It is hidden, unique per process and call, and removed when the
 // write fails, when a termination signal arrives, or by the next write after a crash.
 class TempFile {
  public:
   explicit TempFile(const std::string& target) {
-    static std::atomic<unsigned> counter{0};
     const fs::path target_path(target);
     fs::path dir = target_path.parent_path();
     if (dir.empty()) dir = ".";
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) fail(target, "directory '" + dir.string() + "' does not exist");
-    remove_stale_temp_files(dir, target_path);
-    std::string name = temp_prefix(target_path);
-    name += std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    name += temp_extension(target_path);
-    path_ = (dir / name).string();
+    remove_stale_temporaries(dir, target_path);
+    path_ = (dir / temporary_name(target_path)).string();
     install_signal_cleanup();
     if (path_.size() < PATH_MAX) {
       for (int i = 0; i < kTempSlots && slot_ < 0; ++i) {
