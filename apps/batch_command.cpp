@@ -194,7 +194,7 @@ int run(const BatchCommandOptions& o) {
   }
 
   // Before the first job: a SIGTERM while a scene loads is not lost either.
-  install_stop_signals(true);
+  StopSignalScope signals(true);
   BatchProgress progress(root && !o.quiet, jobs.size());
   BatchCallbacks callbacks;
   callbacks.job_started = [&](const BatchJob& job) { progress.started(job); };
@@ -203,14 +203,8 @@ int run(const BatchCommandOptions& o) {
   callbacks.abandon = [] { return interrupted(); };
   callbacks.stop = [] { return stop_requested(); };
   callbacks.checkpoint_now = [] { return checkpoint_requested(); };
-  std::vector<JobRecord> records;
-  try {
-    records = batch.run(jobs, callbacks);
-  } catch (...) {
-    restore_stop_signals();
-    throw;
-  }
-  restore_stop_signals();
+  std::vector<JobRecord> records = batch.run(jobs, callbacks);
+  signals.restore();
   progress.finish();
   // Jobs the file got wrong, kept going past, are failures of this batch too.
   for (const JobFileError& e : file.errors) {

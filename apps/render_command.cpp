@@ -97,7 +97,7 @@ int run(const RenderOptions& o) {
   check_output_files(files, o.scene.scene_path);
   const bool checkpoints = r.checkpoint_interval > 0.0;
   // Before the scene loads, so that a SIGTERM during a long load is not lost either.
-  install_stop_signals(checkpoints);
+  StopSignalScope signals(checkpoints);
 
   SessionOptions options = r.session;
   options.distribute_frames = true;  // under mpirun; a plain run is a world of one
@@ -195,14 +195,8 @@ int run(const RenderOptions& o) {
     };
     callbacks.resume = resume ? &*resume : nullptr;
   }
-  RenderOutput out;
-  try {
-    out = session.render(job, callbacks);
-  } catch (...) {
-    restore_stop_signals();
-    throw;
-  }
-  restore_stop_signals();
+  const RenderOutput out = session.render(job, callbacks);
+  signals.restore();
   progress.finish();
   if (!root) return 0;
   const RenderResult& result = out.result;

@@ -23,6 +23,24 @@ void install_stop_signals(bool checkpoint_signals);
 // keep what they saw.
 void restore_stop_signals();
 
+// install_stop_signals for a scope: restore() gives the dispositions back once the work that
+// may stop early is over (before the outputs are written), and the destructor does it on an
+// exception's way out, so no path leaves the handlers installed.
+class StopSignalScope {
+ public:
+  explicit StopSignalScope(bool checkpoint_signals) { install_stop_signals(checkpoint_signals); }
+  ~StopSignalScope() { restore(); }
+  StopSignalScope(const StopSignalScope&) = delete;
+  StopSignalScope& operator=(const StopSignalScope&) = delete;
+  void restore() {
+    if (installed_) restore_stop_signals();
+    installed_ = false;
+  }
+
+ private:
+  bool installed_ = true;
+};
+
 bool interrupted();
 bool stop_requested();
 // True once per SIGUSR2 received since the last call.
