@@ -8,8 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+#include "renderer/image/oiio_module.h"
 
 namespace prism {
 namespace {
@@ -78,18 +77,15 @@ class SvgCanvas : public Canvas {
   std::ostringstream out_;
 };
 
-// Draws with OpenImageIO at kScale times the size and shrinks once at the end, because its
-// lines and boxes are not antialiased.
+// Draws on OpenImageIO's raster (loaded only now: renderer/image/oiio_module.h) at kScale
+// times the size and shrinks once at the end, because its lines and boxes are not
+// antialiased.
 class ImageCanvas : public Canvas {
  public:
   static constexpr int kScale = 2;
-  static constexpr const char* kFont = "DejaVuSans";
 
-  ImageCanvas()
-      : buffer_(
-            OIIO::ImageSpec(kPlotWidth * kScale, kPlotHeight * kScale, 3, OIIO::TypeDesc::FLOAT)) {
-    OIIO::ImageBufAlgo::fill(buffer_, {1.0f, 1.0f, 1.0f});
-  }
+  explicit ImageCanvas(const std::string& path)
+      : raster_(oiio_module(path).make_canvas(kPlotWidth * kScale, kPlotHeight * kScale)) {}
   void line(double x1, double y1, double x2, double y2, Rgb c, double width) override {
     // A wide line as parallel one-pixel lines across its width.
     const double length = std::hypot(x2 - x1, y2 - y1);
@@ -98,44 +94,35 @@ class ImageCanvas : public Canvas {
     const int strokes = std::max(1, static_cast<int>(std::lround(width * kScale)));
     for (int i = 0; i < strokes; ++i) {
       const double o = (i - (strokes - 1) / 2.0) / kScale;
-      OIIO::ImageBufAlgo::render_line(buffer_, px(x1 + nx * o), px(y1 + ny * o), px(x2 + nx * o),
-                                      px(y2 + ny * o), {c.r, c.g, c.b});
+      raster_->line(px(x1 + nx * o), px(y1 + ny * o), px(x2 + nx * o), px(y2 + ny * o), rgb(c));
     }
   }
   void square(double cx, double cy, double half, Rgb c, bool filled) override {
     for (int ring = 0; ring < (filled ? 1 : kScale); ++ring)
-      OIIO::ImageBufAlgo::render_box(buffer_, px(cx - half) + ring, px(cy - half) + ring,
-                                     px(cx + half) - ring, px(cy + half) - ring, {c.r, c.g, c.b},
-                                     filled);
+      raster_->box(px(cx - half) + ring, px(cy - half) + ring, px(cx + half) - ring,
+                   px(cy + half) - ring, rgb(c), filled);
   }
   void diamond(double cx, double cy, double half, Rgb c) override {
-    // OIIO fills no polygons: one horizontal line per pixel row, narrowing to the corners.
+    // No filled polygons: one horizontal line per pixel row, narrowing to the corners.
     const int x = px(cx), y = px(cy), h = px(half);
     for (int dy = -h; dy <= h; ++dy) {
       const int w = h - std::abs(dy);
-      OIIO::ImageBufAlgo::render_line(buffer_, x - w, y + dy, x + w, y + dy, {c.r, c.g, c.b});
+      raster_->line(x - w, y + dy, x + w, y + dy, rgb(c));
     }
   }
   void text(double x, double y, const std::string& text, int size, Anchor anchor, Rgb c) override {
     if (!has_font_) return;
-    const OIIO::ImageBufAlgo::TextAlignX align[] = {OIIO::ImageBufAlgo::TextAlignX::Left,
-                                                    OIIO::ImageBufAlgo::TextAlignX::Center,
-                                                    OIIO::ImageBufAlgo::TextAlignX::Right};
-    has_font_ = OIIO::ImageBufAlgo::render_text(buffer_, px(x), px(y), text, size * kScale, kFont,
-                                                {c.r, c.g, c.b}, align[static_cast<int>(anchor)],
-                                                OIIO::ImageBufAlgo::TextAlignY::Center);
+    const TextAlign align[] = {TextAlign::left, TextAlign::centre, TextAlign::right};
+    has_font_ =
+        raster_->text(px(x), px(y), text, size * kScale, align[static_cast<int>(anchor)], rgb(c));
   }
   bool has_font() const { return has_font_; }
-  void write(const std::string& path) {
-    const OIIO::ImageBuf small = OIIO::ImageBufAlgo::resize(
-        buffer_, "", 0.0f, OIIO::ROI(0, kPlotWidth, 0, kPlotHeight, 0, 1, 0, 3));
-    if (!small.write(path, OIIO::TypeDesc::UINT8))
-      throw std::runtime_error(path + ": " + small.geterror());
-  }
+  void write(const std::string& path) { raster_->write_png(path, kPlotWidth, kPlotHeight); }
 
  private:
   static int px(double v) { return static_cast<int>(std::lround(v * kScale)); }
-  OIIO::ImageBuf buffer_;
+  static std::array<float, 3> rgb(Rgb c) { return {c.r, c.g, c.b}; }
+  std::unique_ptr<RasterCanvas> raster_;
   bool has_font_ = true;
 };
 
@@ -316,7 +303,7 @@ void write_plot_svg(const std::string& path, const Plot& plot) {
 }
 
 bool write_plot_png(const std::string& path, const Plot& plot) {
-  ImageCanvas canvas;
+  ImageCanvas canvas(path);
   draw_plot(plot, canvas);
   canvas.write(path);
   return canvas.has_font();

@@ -8,11 +8,10 @@
 #include <fstream>
 #include <iterator>
 
-#include <OpenImageIO/hash.h>
-#include <OpenImageIO/imageio.h>
-
+#include "renderer/image/exr_file.h"
 #include "renderer/image/image_metrics.h"
 #include "renderer/version.h"
+#include "session/job_fingerprint.h"
 
 namespace prism {
 namespace {
@@ -25,14 +24,6 @@ constexpr const char* kKeyAttribute = "referenceKey";
 std::string read_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-std::string hex128(const OIIO::farmhash::uint128_t& h) {
-  char buffer[33];
-  std::snprintf(buffer, sizeof buffer, "%016llx%016llx",
-                static_cast<unsigned long long>(OIIO::farmhash::Uint128High64(h)),
-                static_cast<unsigned long long>(OIIO::farmhash::Uint128Low64(h)));
-  return buffer;
 }
 
 // The glTF's JSON: the whole .gltf, or a .glb's first chunk (after the 12-byte header and the
@@ -64,7 +55,7 @@ std::string scene_fingerprint(const std::string& scene_path) {
       }
     }
   }
-  return hex128(OIIO::farmhash::Fingerprint128(all.data(), all.size()));
+  return hash_text(all);
 }
 
 }  // namespace
@@ -101,7 +92,7 @@ ReferenceKey reference_key(const std::string& scene_path, const SceneDescription
       {"spheres", to_string(job.spheres)},
   };
   const std::string text = key.settings.dump();
-  key.hash = hex128(OIIO::farmhash::Fingerprint128(text.data(), text.size()));
+  key.hash = hash_text(text);
   return key;
 }
 
@@ -127,15 +118,14 @@ std::pair<std::string, std::string> reference_metadata_entry(const ReferenceKey&
 RecordedRender read_recorded_render(const std::string& path) {
   RecordedRender recorded;
   recorded.image = read_exr(path);
-  auto input = OIIO::ImageInput::open(path);
-  if (!input) throw std::runtime_error(path + ": " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = input->spec();
-  recorded.spp = spec.get_int_attribute("prism:spp", 0);
-  recorded.seconds = spec.get_float_attribute("prism:renderSeconds", 0.0f);
+  const std::optional<ExrHeader> header = read_exr_header(path);
+  if (!header) throw std::runtime_error(path + ": not a readable OpenEXR file");
+  recorded.spp = header->int_value("prism:spp").value_or(0);
+  recorded.seconds = header->float_value("prism:renderSeconds").value_or(0.0f);
   // write_exr stores the counts as strings (RenderMetadata::extra).
   auto count = [&](const char* name) {
-    return std::strtoull(spec.get_string_attribute(std::string("prism:") + name).c_str(), nullptr,
-                         10);
+    return std::strtoull(header->string_value(std::string("prism:") + name).value_or("").c_str(),
+                         nullptr, 10);
   };
   for (const EnumName<RayKind>& kind : kRayKindNames) {
     std::string name = kind.name;
@@ -150,13 +140,9 @@ std::optional<RecordedRender> find_cached_reference(const std::string& dir,
                                                     const ReferenceKey& key) {
   const std::string path = cached_reference_path(dir, key);
   if (!fs::is_regular_file(path)) return std::nullopt;
-  {
-    auto input = OIIO::ImageInput::open(path);
-    // Unreadable, or another key with the same hash: render it again.
-    if (!input || input->spec().get_string_attribute(std::string("prism:") + kKeyAttribute) !=
-                      key.settings.dump())
-      return std::nullopt;
-  }
+  // Unreadable, or another key with the same hash: render it again.
+  if (read_exr_string(path, std::string("prism:") + kKeyAttribute) != key.settings.dump())
+    return std::nullopt;
   try {
     return read_recorded_render(path);
   } catch (const std::exception&) {

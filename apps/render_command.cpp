@@ -239,7 +239,7 @@ int run(const RenderOptions& o) {
                  "prism: --time-limit %g s reached after round %d (%.4g spp mean); the image "
                  "depends on this machine's speed\n",
                  out.film.time_limit_seconds, result.rounds, result.mean_spp(out.film));
-  write_output_files(files, out, session.colour(job.working_space));
+  write_output_files(files, out, session.colour(job.working_space), session.threads());
   // The image is on disk: the checkpoint has nothing left to continue.
   if (checkpoints) {
     std::error_code remove_error;

@@ -3,6 +3,11 @@
 find_package(embree 3.13 REQUIRED)
 find_package(TBB REQUIRED)
 find_package(Imath REQUIRED)
+# OpenEXR, libpng and libjpeg-turbo read and write the images every render touches;
+# OpenImageIO, with its ~260 shared libraries, only in a module loaded on first use
+# (renderer/image/oiio_module.h, docs/images.md).
+find_package(OpenEXR REQUIRED CONFIG)
+find_package(PNG REQUIRED)
 find_package(OpenImageIO REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(CLI11 REQUIRED)
@@ -20,6 +25,7 @@ set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRE
 # Debian's OpenColorIO CMake config is broken; its pkg-config file is not.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
+pkg_check_modules(TURBOJPEG REQUIRED IMPORTED_TARGET libturbojpeg)
 
 if(PRISM_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -56,10 +56,10 @@ if ((failed)); then
   exit 1
 fi
 
-# libdraco (KHR_draco_mesh_compression), OpenImageIO (images) and TBB (their parallel
-# decode) are linked from Debian's builds, not instrumented.
+# libdraco (KHR_draco_mesh_compression), libpng and libjpeg-turbo (images) and TBB (their
+# parallel decode) are linked from Debian's builds, not instrumented.
 for target in gltf_loader_fuzz gltf_image_fuzz; do
-  "$CXX" -fsanitize=fuzzer $SAN "$OUT"/*.o "$OUT/main/$target.o" -ldraco -lOpenImageIO \
-    -lOpenImageIO_Util -ltbb -o "$OUT/$target"
+  "$CXX" -fsanitize=fuzzer $SAN "$OUT"/*.o "$OUT/main/$target.o" -ldraco -lpng16 \
+    -lturbojpeg -ltbb -o "$OUT/$target"
   echo "$OUT/$target"
 done

@@ -1,7 +1,7 @@
 // libFuzzer target over the loader's image path: each input is the bytes of one glTF image, as a
 // data URI, a bufferView or a file would hand them over, checked by check_image_header (format
-// by signature, then the PNG or JPEG reader's header) and, when accepted, decoded by
-// decode_images. OpenImageIO's other readers must never be reached; LoadError is the expected
+// by signature, then libpng's or libjpeg-turbo's header) and, when accepted, decoded by
+// decode_images. No other decoder may be reached; LoadError is the expected
 // answer to bad input, anything else (crash, sanitizer report, other exception) is a bug.
 // Seeded with small images of every format OpenImageIO reads (fuzz/seed_corpus.sh --images).
 // Built by fuzz/build.sh; see docs/fuzzing.md.
@@ -17,13 +17,6 @@
 #include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_images.h"
 #include "scene_io/gltf_loader.h"
-
-// The same known OpenImageIO 2.4 leak as in gltf_loader_fuzz.cpp (a libpng longjmp skipping a
-// std::string's destructor on a PNG cut short).
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:OpenImageIO_v2_4::PNGInput::PngReadCallback\n"
-         "leak:OpenImageIO_v2_4::ImageInput::geterror\n";
-}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   using namespace prism::gltf_detail;

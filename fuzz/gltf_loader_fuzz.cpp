@@ -32,16 +32,6 @@ const std::string& work_dir() {
 
 }  // namespace
 
-// A known leak in OpenImageIO 2.4, not in Prism: on a PNG cut short, PNGInput's libpng read
-// callback builds a std::string (ImageInput::geterror) and leaves through png_error's
-// longjmp, which skips its destructor (31 bytes per broken PNG decode). LeakSanitizer would
-// stop every run at the first such seed mutation. OpenImageIO has no frame pointers, so the
-// default fast unwinder's stack ends at geterror: both names are listed.
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:OpenImageIO_v2_4::PNGInput::PngReadCallback\n"
-         "leak:OpenImageIO_v2_4::ImageInput::geterror\n";
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   // The loader picks the format by the GLB magic, not the name; the extension only mirrors
   // what a user's file would be called.

@@ -123,33 +123,47 @@ bool flat_and_lit_off_plane(const SceneDescription& scene, const MeshInstance& i
   if (!one_vertex_normal(mesh, &vertex_normal)) return false;
   for (const Primitive& p : mesh.primitives)
     if (normal_mapped(scene, p.material)) return false;
-  std::vector<V3d> points;
-  for (const Primitive& p : mesh.primitives)
-    for (uint32_t i : p.indices) {
-      V3d world;
-      instance.object_to_world.multVecMatrix(V3d(p.positions[i]), world);
-      points.push_back(world);
-    }
+  // Every index's placed point, visited in order and never stored: at 24 bytes each, a
+  // copy of a mesh of 10^8 indices would need more memory than the mesh itself.
+  const auto for_each_point = [&](const auto& visit) {
+    for (const Primitive& p : mesh.primitives)
+      for (uint32_t i : p.indices) {
+        V3d world;
+        instance.object_to_world.multVecMatrix(V3d(p.positions[i]), world);
+        if (!visit(world)) return false;
+      }
+    return true;
+  };
   Imath::Box3d box;
-  for (const V3d& p : points) box.extendBy(p);
+  for_each_point([&](const V3d& p) {
+    box.extendBy(p);
+    return true;
+  });
   const double extent = box.isEmpty() ? 0.0 : (box.max - box.min).length();
   if (!(extent > 0.0) || !std::isfinite(extent)) return false;
   const double tolerance = kPlanarTolerance * extent;
   // The plane of the largest triangle, whose normal is the most accurate.
   V3d normal(0.0), origin(0.0);
   double largest = 0.0;
-  for (size_t i = 0; i + 2 < points.size(); i += 3) {
-    const V3d n = (points[i + 1] - points[i]).cross(points[i + 2] - points[i]);
+  V3d corner[3];
+  int corners = 0;
+  for_each_point([&](const V3d& p) {
+    corner[corners++] = p;
+    if (corners < 3) return true;
+    corners = 0;
+    const V3d n = (corner[1] - corner[0]).cross(corner[2] - corner[0]);
     if (n.length() > largest) {
       largest = n.length();
       normal = n;
-      origin = points[i];
+      origin = corner[0];
     }
-  }
+    return true;
+  });
   if (!(largest > tolerance * tolerance)) return false;
   normal /= largest;
-  for (const V3d& p : points)
-    if (std::abs((p - origin).dot(normal)) > tolerance) return false;
+  if (!for_each_point(
+          [&](const V3d& p) { return std::abs((p - origin).dot(normal)) <= tolerance; }))
+    return false;
   if (vertex_normal != V3f(0.0f)) {
     // Normals move with the inverse transpose (mesh_preparation.cpp, embree_scene.cpp).
     V3d placed;
@@ -157,12 +171,16 @@ bool flat_and_lit_off_plane(const SceneDescription& scene, const MeshInstance& i
     const double length = placed.length();
     if (!(length > 0.0) || placed.cross(normal).length() > kNormalLean * length) return false;
     for (const Light& light : scene.lights) {
-      for (const V3d& p : points) {
-        const V3d to_light =
-            light.type == LightType::directional ? light.direction : light.position - p;
-        if (!(std::abs(to_light.dot(normal)) > kLightClearance * to_light.length())) return false;
-        if (light.type == LightType::directional) break;
-      }
+      // A directional light arrives the same way at every point (the mesh has some: its
+      // extent is above 0).
+      const auto clear_of = [&](const V3d& to_light) {
+        return std::abs(to_light.dot(normal)) > kLightClearance * to_light.length();
+      };
+      const bool clear =
+          light.type == LightType::directional
+              ? clear_of(light.direction)
+              : for_each_point([&](const V3d& p) { return clear_of(light.position - p); });
+      if (!clear) return false;
     }
   }
   for (const Light& light : scene.lights) {

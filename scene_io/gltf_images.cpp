@@ -6,13 +6,12 @@
 #include <cstring>
 #include <memory>
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <tbb/parallel_for.h>
 
 #include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 #include "scene_io/gltf_limits.h"
+#include "scene_io/image_decoders.h"
 
 namespace prism::gltf_detail {
 
@@ -29,7 +28,7 @@ constexpr unsigned char kKtx2Signature[12] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
 enum class Format { png, jpeg, webp, ktx2, other };
 
 // By the signature alone: a mimeType, a data: URI's media type or a file's extension may lie,
-// and OpenImageIO's other readers (IFF, DPX, DDS, ...) must never see a glTF image.
+// and no decoder but the format's own may ever see a glTF image.
 Format sniff(const unsigned char* bytes, std::size_t size) {
   if (size >= 8 && std::memcmp(bytes, kPngSignature, 8) == 0) return Format::png;
   if (size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return Format::jpeg;
@@ -136,19 +135,10 @@ std::size_t raw_bytes(Format format, const unsigned char* bytes, std::size_t siz
   return height * ((width * depth * samples + 7) / 8);
 }
 
-// The format's own reader, by name: OpenImageIO's ImageInput::open would fall back to every
-// other reader it has when this one fails.
-std::unique_ptr<OIIO::ImageInput> open(Format format, OIIO::Filesystem::IOMemReader* proxy) {
-  const char* name = format == Format::png ? "png" : "jpeg";
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create(name);
-  OIIO::ImageSpec spec;
-  if (!in || !in->set_ioproxy(proxy) || !in->open(std::string("image.") + name, spec) ||
-      in->format_name() != std::string(name)) {
-    if (in) in->geterror();  // clear the reader's message: the caller words its own
-    OIIO::geterror();
-    return nullptr;
-  }
-  return in;
+std::string read_header(Format format, const unsigned char* bytes, std::size_t size,
+                        ImageHeader* header) {
+  return format == Format::png ? read_png_header(bytes, size, header)
+                               : read_jpeg_header(bytes, size, header);
 }
 
 // Empty when width x height fits the limits (counting it against the file's total).
@@ -192,28 +182,23 @@ bool check_image_header(tinygltf::Image* image, const int index, std::string* er
   if (const std::string problem = format_problem(format, declared, bytes, std::size_t(size));
       !problem.empty())
     return refuse(problem);
-  OIIO::Filesystem::IOMemReader proxy(bytes, std::size_t(size));
-  const std::unique_ptr<OIIO::ImageInput> in = open(format, &proxy);
-  if (!in) {
+  ImageHeader spec;
+  if (const std::string problem = read_header(format, bytes, std::size_t(size), &spec);
+      !problem.empty()) {
     // A PNG whose header is fine but whose data is cut short (or a hostile header alone)
     // fails to open; its claimed size is still worth stating when it is the problem.
     if (size >= 24 && format == Format::png && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
-      const std::string problem = size_problem(be32(bytes + 16), be32(bytes + 20), guard);
-      if (!problem.empty()) return refuse(problem);
+      const std::string size_issue = size_problem(be32(bytes + 16), be32(bytes + 20), guard);
+      if (!size_issue.empty()) return refuse(size_issue);
     }
-    return refuse(std::string("the ") + (format == Format::png ? "PNG" : "JPEG") +
-                  " image cannot be read");
+    return refuse(problem);
   }
-  const OIIO::ImageSpec& spec = in->spec();
   if (const std::string problem = size_problem(spec.width, spec.height, guard); !problem.empty())
     return refuse(problem);
-  // Texel storage is width x height x channels: a volume would be read past it.
-  if (spec.depth != 1) return refuse("a volume image (depth " + std::to_string(spec.depth) + ")");
-  if (spec.nchannels < 1) return refuse("the image has no channels");
   // A decompression bomb: a small file claiming a huge image would have its texels allocated
   // (and zeroed) before the decoder found the data missing.
   const std::size_t raw = raw_bytes(format, bytes, std::size_t(size), std::size_t(spec.width),
-                                    std::size_t(spec.height), spec.nchannels);
+                                    std::size_t(spec.height), spec.channels);
   const std::size_t ratio =
       format == Format::png ? gltf_limits::kMaxPngRatio : gltf_limits::kMaxJpegRatio;
   if (raw / ratio > std::size_t(size)) {
@@ -235,8 +220,8 @@ bool check_image_header(tinygltf::Image* image, const int index, std::string* er
   }
   image->width = spec.width;
   image->height = spec.height;
-  image->component = std::min(spec.nchannels, 4);
-  image->bits = static_cast<int>(8 * spec.format.size());
+  image->component = spec.channels;
+  image->bits = spec.bits;
   image->as_is = true;  // the encoded file, decoded later by decode_images
   image->mimeType = media_type(format);
   // The decoded texels and the copy of the encoded bytes kept until then.
@@ -259,11 +244,12 @@ std::vector<DecodedImage> decode_images(const tinygltf::Model& model,
       errors[i] = "the image could not be read";
       return;
     }
-    OIIO::Filesystem::IOMemReader proxy(image.image.data(), image.image.size());
-    const std::unique_ptr<OIIO::ImageInput> in =
-        open(sniff(image.image.data(), image.image.size()), &proxy);
+    const Format format = sniff(image.image.data(), image.image.size());
+    ImageHeader header;
     // The header was read before: a size that changed is a broken reader, not a new file.
-    if (!in || in->spec().width != image.width || in->spec().height != image.height) {
+    if (!read_header(format, image.image.data(), image.image.size(), &header).empty() ||
+        header.width != image.width || header.height != image.height ||
+        header.channels != image.component) {
       errors[i] = "the image cannot be decoded";
       return;
     }
@@ -274,9 +260,12 @@ std::vector<DecodedImage> decode_images(const tinygltf::Model& model,
     auto texels = std::make_shared<std::vector<float>>(
         std::size_t(d.width) * std::size_t(d.height) * std::size_t(d.channels));
     // Integer formats arrive normalised to [0, 1], as glTF defines their values.
-    if (!in->read_image(0, 0, 0, d.channels, OIIO::TypeDesc::FLOAT, texels->data())) {
-      const std::string why = one_line(in->geterror());
-      errors[i] = "the image cannot be decoded" + (why.empty() ? std::string() : ": " + why);
+    const std::string why =
+        format == Format::png
+            ? decode_png(image.image.data(), image.image.size(), header, texels->data())
+            : decode_jpeg(image.image.data(), image.image.size(), header, texels->data());
+    if (!why.empty()) {
+      errors[i] = "the image cannot be decoded: " + why;
       d = DecodedImage();
       return;
     }

@@ -1,6 +1,6 @@
-// glTF images through OpenImageIO: sizes checked from the header while tinygltf parses the
-// file (before anything is decoded), then every image a texture uses decoded once, in
-// parallel.
+// glTF images through libpng and libjpeg-turbo (image_decoders.h): sizes checked from the
+// header while tinygltf parses the file (before anything is decoded), then every image a
+// texture uses decoded once, in parallel.
 #pragma once
 
 #include <cstddef>

@@ -11,6 +11,8 @@ PACKAGES=(
   # renderer dependencies
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
+  # glTF's PNG and JPEG images, decoded without OpenImageIO (scene_io/image_decoders.h)
+  libpng-dev libturbojpeg0-dev
   libopencolorio-dev opencolorio-tools
   libtinygltf-dev nlohmann-json3-dev libstb-dev
   libcli11-dev

@@ -447,7 +447,9 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
     p->group.run([p] {
       const auto write_start = Clock::now();
       try {
-        write_output_files(p->files, p->output, *p->colour);
+        // Compressed on this one task of the batch's arena: it overlaps the next job's
+        // render, and a pool of its own would take cores beyond --threads.
+        write_output_files(p->files, p->output, *p->colour, 1);
         // The image is on disk: its checkpoint has nothing left to continue.
         std::error_code ignored;
         fs::remove(checkpoint_path(p->files.exr), ignored);

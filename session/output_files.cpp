@@ -67,14 +67,15 @@ Image sample_count_image(const RenderOutput& output) {
 }
 
 void write_output_files(const OutputFiles& files, const RenderOutput& output,
-                        const ColourPipeline& colour) {
+                        const ColourPipeline& colour, int threads) {
   // The master last: once it exists, so do the others, and a batch that finds it (with its
   // job's fingerprint) after a kill may skip the job.
   if (!files.preview.empty()) write_png_preview(files.preview, output.image, colour);
   if (!files.sample_counts.empty())
     write_exr(files.sample_counts, sample_count_image(output), colour, output.metadata,
-              ExrPixelType::float32);
-  write_exr(files.exr, output.image, colour, output.metadata, files.pixel_type);
+              {ExrPixelType::float32, files.compression, threads});
+  write_exr(files.exr, output.image, colour, output.metadata,
+            {files.pixel_type, files.compression, threads});
 }
 
 }  // namespace prism

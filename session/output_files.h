@@ -17,6 +17,7 @@ struct OutputFiles {
   std::string preview;        // .png, or empty
   std::string sample_counts;  // .exr of each pixel's sample count (R = G = B), or empty
   ExrPixelType pixel_type = ExrPixelType::float32;
+  ExrCompression compression = kDefaultExrCompression;
 };
 
 // Throws RequestError naming the field ("output", "preview", "sample-count-image") when a
@@ -27,7 +28,9 @@ void check_output_files(const OutputFiles& files, const std::string& scene_path)
 // Each pixel's sample count as grey (R = G = B), alpha 1.
 Image sample_count_image(const RenderOutput& output);
 
+// `threads` compress the EXRs (ExrWriteOptions::threads): the session's own when nothing
+// else runs, 1 when the write overlaps another render.
 void write_output_files(const OutputFiles& files, const RenderOutput& output,
-                        const ColourPipeline& colour);
+                        const ColourPipeline& colour, int threads);
 
 }  // namespace prism

@@ -92,6 +92,9 @@ class Session {
   // for it, as Embree reports it. What a cache of sessions weighs against its budget.
   uint64_t memory_bytes() const;
 
+  // The session's thread limit: its arena's concurrency.
+  int threads() const { return arena_->max_concurrency(); }
+
   // Runs `f` on the session's worker threads, within its thread limit.
   template <typename F>
   decltype(auto) execute(F&& f) {
@@ -129,7 +132,8 @@ class Session {
   std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
   // The render scene kept, with the choices it was built for.
   struct BuiltScene {
-    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, std::array<double, 3>, BrdfModel>
+    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, std::array<double, 3>,
+               BrdfModel>
         key;
     std::unique_ptr<RenderScene> scene;
   };

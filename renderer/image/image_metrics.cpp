@@ -1,6 +1,7 @@
 #include "renderer/image/image_metrics.h"
 
-#include <OpenImageIO/imageio.h>
+#include "renderer/image/exr_file.h"
+#include "renderer/image/oiio_module.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,12 +35,6 @@ void track_max(double abs_error, int x, int y, ChannelError* e) {
   std::replace(reason.begin(), reason.end(), '\n', ' ');
   while (!reason.empty() && reason.back() == ' ') reason.pop_back();
   throw std::runtime_error(path + ": " + reason);
-}
-
-int find_channel(const OIIO::ImageSpec& spec, const char* name) {
-  for (int c = 0; c < spec.nchannels; ++c)
-    if (spec.channelnames[static_cast<size_t>(c)] == name) return c;
-  return -1;
 }
 
 }  // namespace
@@ -100,57 +95,16 @@ ImageError compare_images(const Image& a, const Image& b) {
 }
 
 std::optional<std::string> read_exr_attribute(const std::string& path, const std::string& key) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-  if (!in) {
-    OIIO::geterror();  // cleared, or the next OpenImageIO call would report it
-    return std::nullopt;
-  }
-  if (std::string(in->format_name()) != "openexr") return std::nullopt;
-  const OIIO::ParamValue* p = in->spec().find_attribute("prism:" + key, OIIO::TypeDesc::STRING);
-  if (!p) return std::nullopt;
-  return std::string(p->get_ustring().string());
+  return read_exr_string(path, "prism:" + key);
 }
 
 Image read_exr(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
   if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory");
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-  if (!in) fail(path, OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.deep) fail(path, "deep images are not supported");
-  if (spec.width < 1 || spec.height < 1 || spec.depth != 1 || spec.nchannels < 1)
-    fail(path, "not a 2D image with at least one channel");
-  const size_t nch = static_cast<size_t>(spec.nchannels);
-  std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * nch);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
-    fail(path, in->geterror());
-  in->close();
-
-  // Named channels first (EXR files may carry more, e.g. Z), else the first non-alpha ones.
-  const int alpha = spec.alpha_channel;
-  std::array<int, 3> colour{find_channel(spec, "R"), find_channel(spec, "G"),
-                            find_channel(spec, "B")};
-  if (colour[0] < 0 || colour[1] < 0 || colour[2] < 0) {
-    std::vector<int> others;
-    for (int c = 0; c < spec.nchannels; ++c)
-      if (c != alpha) others.push_back(c);
-    if (others.empty()) fail(path, "has only an alpha channel");
-    // One channel is luminance; with two, the missing blue stays zero (-1).
-    for (size_t i = 0; i < 3; ++i)
-      colour[i] = others.size() == 1 ? others[0] : (i < others.size() ? others[i] : -1);
-  }
-
-  Image image(spec.width, spec.height);
-  for (size_t p = 0; p < static_cast<size_t>(spec.width) * spec.height; ++p) {
-    const float* src = &pixels[p * nch];
-    float* dst = &image.rgba[p * 4];
-    for (size_t i = 0; i < 3; ++i) dst[i] = colour[i] >= 0 ? src[colour[i]] : 0.0f;
-    dst[3] = alpha >= 0 ? src[alpha] : 1.0f;
-  }
-  return image;
+  if (is_exr_file(path)) return read_exr_file(path);
+  // Another format (a PNG or TIFF reference, say): OpenImageIO, loaded only now.
+  return oiio_module(path).read_image(path);
 }
 
 }  // namespace prism

@@ -1,6 +1,5 @@
 #include "renderer/image/image_output.h"
 
-#include <OpenImageIO/imageio.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -8,6 +7,7 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <iterator>
 
 #include <algorithm>
@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "renderer/image/png_file.h"
 #include "renderer/temporary_files.h"
 #include "renderer/version.h"
 
@@ -154,21 +155,28 @@ class TempFile {
   bool committed_ = false;
 };
 
-void write_file(const std::string& target, const char* format, const OIIO::ImageSpec& spec,
-                OIIO::TypeDesc data_type, const void* data) {
-  TempFile temp(target);
-  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
-  if (!out)
-    fail(target, "OpenImageIO cannot write " + std::string(format) + ": " + OIIO::geterror());
-  if (!out->open(temp.path(), spec)) fail(target, out->geterror());
-  if (!out->write_image(data_type, data)) {
-    const std::string reason = out->geterror();
-    out->close();
-    fail(target, reason);
+// Writes `path` through a temporary beside it, renamed into place; a failure is reported
+// under the target's name, the temporary being an implementation detail.
+template <typename Write>
+void write_atomically(const std::string& path, const Write& write) {
+  TempFile temp(path);
+  try {
+    write(temp.path());
+  } catch (const std::runtime_error& e) {
+    std::string reason = e.what();
+    if (reason.rfind(temp.path() + ": ", 0) == 0) reason.erase(0, temp.path().size() + 2);
+    fail(path, reason);
   }
-  if (!out->close()) fail(target, out->geterror());
-  out.reset();
-  temp.commit(target);
+  temp.commit(path);
+}
+
+std::string capture_date() {
+  const std::time_t now = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&now, &local);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y:%m:%d %H:%M:%S", &local);
+  return text;
 }
 
 std::array<float, 16> to_float_matrix(const M44d& m) {
@@ -182,32 +190,28 @@ std::array<float, 16> to_float_matrix(const M44d& m) {
 }  // namespace
 
 void write_exr(const std::string& path, const Image& image, const ColourPipeline& colour,
-               const RenderMetadata& metadata, ExrPixelType pixel_type) {
+               const RenderMetadata& metadata, const ExrWriteOptions& options) {
   check_image(path, image);
-  const OIIO::TypeDesc format =
-      pixel_type == ExrPixelType::half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
-  OIIO::ImageSpec spec(image.width, image.height, 4, format);
-  spec.alpha_channel = 3;
-  // zip is lossless and, unlike piz, does as well on smooth float data as on noisy half.
-  spec.attribute("compression", "zip");
+  ExrHeader header;
+  header.chromaticities = colour.chromaticities();
+  header.world_to_camera = to_float_matrix(metadata.world_to_camera);
+  header.world_to_ndc = to_float_matrix(metadata.world_to_ndc);
+  // Named as OpenImageIO and earlier Prism wrote them: "Software", and the standard capDate
+  // (local time, "YYYY:MM:DD hh:mm:ss"), which OpenImageIO shows as DateTime.
+  header.strings = {{"Software", std::string("prism ") + kVersion},
+                    {"capDate", capture_date()},
+                    {"prism:integrator", metadata.integrator},
+                    {"prism:scene", metadata.scene_path},
+                    {"prism:workingSpace", to_string(colour.working_space())},
+                    {"prism:ocioConfig", colour.config_source()}};
+  for (const auto& [key, value] : metadata.extra)
+    header.strings.emplace_back("prism:" + key, value);
+  header.ints = {{"prism:spp", metadata.spp}};
+  header.floats = {{"prism:renderSeconds", static_cast<float>(metadata.render_seconds)}};
 
-  const std::array<float, 8> chroma = colour.chromaticities();
-  spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), chroma.data());
-  spec.attribute("Software", std::string("prism ") + kVersion);
-  const std::array<float, 16> world_to_camera = to_float_matrix(metadata.world_to_camera);
-  const std::array<float, 16> world_to_ndc = to_float_matrix(metadata.world_to_ndc);
-  spec.attribute("worldToCamera", OIIO::TypeMatrix44, world_to_camera.data());
-  spec.attribute("worldToNDC", OIIO::TypeMatrix44, world_to_ndc.data());
-
-  spec.attribute("prism:integrator", metadata.integrator);
-  spec.attribute("prism:spp", metadata.spp);
-  spec.attribute("prism:renderSeconds", static_cast<float>(metadata.render_seconds));
-  spec.attribute("prism:scene", metadata.scene_path);
-  spec.attribute("prism:workingSpace", to_string(colour.working_space()));
-  spec.attribute("prism:ocioConfig", colour.config_source());
-  for (const auto& [key, value] : metadata.extra) spec.attribute("prism:" + key, value);
-
-  write_file(path, "openexr", spec, OIIO::TypeDesc::FLOAT, image.rgba.data());
+  write_atomically(path, [&](const std::string& temporary) {
+    write_exr_file(temporary, image, header, options);
+  });
 }
 
 void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour) {
@@ -223,9 +227,10 @@ void write_png_preview(const std::string& path, const Image& image, const Colour
       bytes[i * 3 + c] = static_cast<std::uint8_t>(std::lround(display.rgba[i * 4 + c] * 255.0f));
     }
   }
-  OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("Software", std::string("prism ") + kVersion);
-  write_file(path, "png", spec, OIIO::TypeDesc::UINT8, bytes.data());
+  write_atomically(path, [&](const std::string& temporary) {
+    write_png_file(temporary, image.width, image.height, bytes.data(),
+                   std::string("prism ") + kVersion);
+  });
 }
 
 }  // namespace prism

@@ -1,4 +1,4 @@
-// Writing rendered images: the EXR master and the PNG preview, through OpenImageIO.
+// Writing rendered images: the EXR master (exr_file.h) and the PNG preview (png_file.h).
 //
 // Files are written to a temporary name beside the target and renamed into place, so a
 // failed or interrupted write never leaves a half-written file or clobbers an old one.
@@ -9,12 +9,11 @@
 #include <vector>
 
 #include "renderer/image/colour.h"
+#include "renderer/image/exr_file.h"
 #include "renderer/image/image.h"
 #include "renderer/scene_description.h"
 
 namespace prism {
-
-enum class ExrPixelType { half, float32 };
 
 struct RenderMetadata {
   std::string integrator;
@@ -29,7 +28,12 @@ struct RenderMetadata {
 
 // Throws std::runtime_error("<path>: <reason>") on failure; the target is then untouched.
 void write_exr(const std::string& path, const Image& image, const ColourPipeline& colour,
-               const RenderMetadata& metadata, ExrPixelType pixel_type = ExrPixelType::half);
+               const RenderMetadata& metadata, const ExrWriteOptions& options);
+inline void write_exr(const std::string& path, const Image& image, const ColourPipeline& colour,
+                      const RenderMetadata& metadata,
+                      ExrPixelType pixel_type = ExrPixelType::half) {
+  write_exr(path, image, colour, metadata, ExrWriteOptions{pixel_type});
+}
 void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour);
 
 }  // namespace prism

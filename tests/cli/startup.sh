@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# What a process loads before it renders (docs/images.md): the executable links no
+# OpenImageIO, a textured glTF renders without loading it, and the commands that need it
+# (a PNG given to `prism diff`) load its module and work; a missing module fails only them,
+# with one line naming the file.
+# Usage: startup.sh PRISM SOURCE_DIR
+source "$(dirname "$0")/lib/common.bash" "$@"
+BOX=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
+
+libs=$(ldd "$PRISM" | wc -l)
+oiio=$(ldd "$PRISM" | grep -c OpenImageIO)
+echo "prism links $libs shared libraries, $oiio of them OpenImageIO's"
+[[ $oiio -eq 0 ]] || fail "prism links OpenImageIO: $(ldd "$PRISM" | grep OpenImageIO)"
+# The OpenImageIO build pulled in about 260; what is left is Embree, TBB, OCIO, OpenEXR,
+# libpng, libjpeg-turbo, Draco, MPI and their own dependencies.
+[[ $libs -lt 120 ]] || fail "prism links $libs shared libraries"
+
+# A textured render (PNG texture) opens no OpenImageIO library.
+strace -f -e trace=openat -o "$TMP/trace" "$PRISM" render "$BOX" --res 32x24 \
+  -o "$TMP/box.exr" --preview "$TMP/box.png" -q || fail "textured render failed"
+opened=$(grep -c 'OpenImageIO\|libprism_oiio' "$TMP/trace")
+echo "textured render: $(grep -c 'openat(' "$TMP/trace") files opened, $opened of OpenImageIO"
+[[ $opened -eq 0 ]] || fail "a textured render opened OpenImageIO: $(grep OpenImageIO "$TMP/trace" | head -2)"
+[[ -s $TMP/box.exr && -s $TMP/box.png ]] || fail "the render wrote no EXR or PNG"
+
+# A PNG to compare: the module is loaded, and the PNG compares equal to itself.
+strace -f -e trace=openat -o "$TMP/trace2" "$PRISM" diff "$TMP/box.png" "$TMP/box.png" \
+  --metric rmse >"$TMP/rmse" || fail "prism diff on PNGs failed"
+grep -q 'libprism_oiio.so' "$TMP/trace2" || fail "prism diff on a PNG did not load the module"
+[[ $(cat "$TMP/rmse") == 0 ]] || fail "a PNG against itself: RMSE $(cat "$TMP/rmse")"
+echo "prism diff of a PNG against itself: RMSE $(cat "$TMP/rmse"), module loaded"
+
+# Without the module: EXR work still runs; a PNG comparison fails in one line naming the file.
+mkdir -p "$TMP/bin" "$TMP/lib/prism"
+cp "$PRISM" "$TMP/bin/prism"
+PRISM="$TMP/bin/prism"
+"$PRISM" diff "$TMP/box.exr" "$TMP/box.exr" --metric rmse >/dev/null 2>&1 ||
+  fail "an EXR diff needed the module"
+expect 2 "box.png: needs OpenImageIO, whose module .*libprism_oiio.so cannot be loaded" -- \
+  diff "$TMP/box.png" "$TMP/box.exr"
+
+echo "$failures failed"
+[[ $failures -eq 0 ]]
