@@ -80,7 +80,8 @@ RenderRequest render_request(const RenderOptions& o) {
   r.checkpoint_interval = o.checkpoint_interval;
   job.reference_path = o.reference_path;
   r.files = OutputFiles{o.output_path, o.preview_path, o.sample_count_path,
-                        o.half ? ExrPixelType::half : ExrPixelType::float32};
+                        o.half ? ExrPixelType::half : ExrPixelType::float32,
+                        parse_choice<ExrCompression>(o.compression, "--compression")};
   r.scene = scene_request(o.scene, o.sphere_detection);
   r.session = session_options(o.scene);
   return r;
@@ -309,6 +310,11 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "(mean of (a-b)^2/(b^2+0.01)) against this EXR on stderr; they also go into the "
                   "output's metadata. The image itself is unchanged");
   cmd->add_flag("--half", o->half, "Write half-float EXR pixels instead of 32-bit float");
+  cmd->add_option("--compression", o->compression,
+                  "EXR compression, all lossless: " + enum_choices<ExrCompression>(" | ") +
+                      " (docs/benchmarks.md, \"EXR writing\": none and rle write fastest, "
+                      "piz and zip smallest)")
+      ->capture_default_str();
   cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)");
   cmd->add_option("--build-quality", o->build_quality,
                   "BVH build quality: " + enum_choices<BuildQuality>(" | ") +

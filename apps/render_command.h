@@ -26,6 +26,7 @@ struct RenderOptions {
   SphereDetectionFlags sphere_detection;  // --detect-spheres, --sphere-tolerance
   std::string reference_path;             // measure the error against this image after every pass
   bool half = false;
+  std::string compression = to_string(kDefaultExrCompression);
   bool robust = false;
   std::string build_quality = "medium";  // BVH build quality (docs/benchmarks.md)
   bool general_path = false;             // RenderSettings::specialise = false

@@ -75,6 +75,7 @@ void write_exr_file(const std::string& path, const Image& image, const ExrHeader
                     const ExrWriteOptions& options) {
   Imf::Header header(image.width, image.height);
   header.compression() = to_imf(options.compression);
+  header.zipCompressionLevel() = std::clamp(options.zip_level, 1, 9);
   if (fields.chromaticities) {
     const std::array<float, 8>& c = *fields.chromaticities;
     Imf::addChromaticities(

@@ -35,6 +35,7 @@ constexpr std::span<const EnumName<ExrCompression>> enum_names(ExrCompression) {
 
 // Measured on this machine (docs/benchmarks.md, "EXR writing").
 inline constexpr ExrCompression kDefaultExrCompression = ExrCompression::zip;
+inline constexpr int kDefaultZipLevel = 4;
 
 // What an EXR's header carries besides the pixels.
 struct ExrHeader {
@@ -64,6 +65,8 @@ struct ExrWriteOptions {
   ExrPixelType pixel_type = ExrPixelType::float32;
   ExrCompression compression = kDefaultExrCompression;
   int threads = 0;  // threads compressing: 1 = the calling thread alone, 0 = one per core
+  // zlib's level for zip and zips, 1 (fastest) to 9 (smallest).
+  int zip_level = kDefaultZipLevel;
 };
 
 // Writes RGBA `image` to `path` itself (callers that need atomic replacement write to a
