@@ -33,7 +33,9 @@ V3f truncated(const V3f& v, float limit) {
 class SteeringBudget {
  public:
   explicit SteeringBudget(float budget) : left_(budget) {}
-  void add(const V3f& force) {
+  void keep_out_of(const Avoidance* avoidance) { avoidance_ = avoidance; }
+  void add(V3f force) {
+    if (avoidance_) force = avoidance_->without_inward(force);
     const float length = force.length();
     if (left_ <= 0.0f || !(length > 0.0f)) return;
     if (length <= left_) {
@@ -49,6 +51,7 @@ class SteeringBudget {
  private:
   float left_;
   V3f total_{0.0f};
+  const Avoidance* avoidance_ = nullptr;
 };
 
 // The grid is sized from the parameters, so they are checked before anything is built.
@@ -114,14 +117,22 @@ V3f Flock::steering(size_t i) const {
     if (neighbour_speed > 0.0f) heading_sum += velocity_[j] / neighbour_speed;
     centre_sum += position_[j];
     ++neighbours;
-    if (d2 < s2) separation -= offset / d2;  // away, by 1 / distance
+    // Away, from full strength at contact to nothing at the separation radius.
+    if (d2 < s2) {
+      const float distance = std::sqrt(d2);
+      separation -= offset * ((1.0f - distance / p_.separation_radius) / distance);
+    }
   });
 
   const auto towards = [&](const V3f& desired) { return truncated(desired - v, p_.max_force); };
   SteeringBudget budget(p_.max_force);
 
   const ProbeShape probe{p_.probe_radius, p_.look_ahead};
-  budget.add(p_.avoidance_weight * avoidance_force(p, d, speed, p_.obstacles, probe, p_.max_force));
+  const Avoidance avoidance = avoid_spheres(p, d, speed, p_.obstacles, probe, p_.max_force);
+  budget.add(p_.avoidance_weight * avoidance.force);
+  // Near a sphere, nothing that follows may steer a boid into it: the flock's pull towards a
+  // neighbour on the far side would otherwise undo the push out.
+  budget.keep_out_of(&avoidance);
 
   V3f wall(0.0f);
   if (p_.bounds_margin > 0.0f) {
@@ -137,16 +148,17 @@ V3f Flock::steering(size_t i) const {
   // Holding the cruise speed comes before the flock's pulls: it acts along the heading only,
   // and a flock whose members' pulls spend the whole budget would otherwise huddle and stall.
   budget.add(p_.cruise_weight * truncated((p_.cruise_speed - speed) * d, p_.max_force));
-  if (separation.length2() > 0.0f)
-    budget.add(p_.separation_weight * towards(separation.normalized() * p_.max_speed));
+  // Separation, alignment and cohesion turn a boid; only the cruise and the migratory urge
+  // change its speed. Written as velocity matching (desired - v) they would each also brake
+  // it, and a flock whose pulls disagree would crawl.
+  budget.add(p_.separation_weight * p_.max_force * truncated(separation, 1.0f));
   if (neighbours > 0) {
-    // Alignment matches the neighbours' heading; their mean velocity would also drag a boid
-    // to the slow average of a milling group.
     if (heading_sum.length2() > 0.0f)
-      budget.add(p_.alignment_weight * towards(heading_sum.normalized() * p_.max_speed));
+      budget.add(p_.alignment_weight *
+                 truncated(heading_sum.normalized() * speed - v, p_.max_force));
     const V3f to_centre = centre_sum / static_cast<float>(neighbours) - p;
-    if (to_centre.length2() > 0.0f)
-      budget.add(p_.cohesion_weight * towards(to_centre.normalized() * p_.max_speed));
+    budget.add(p_.cohesion_weight * p_.max_force *
+               truncated(to_centre / p_.neighbour_radius, 1.0f));
   }
   if (p_.migration_weight > 0.0f) budget.add(p_.migration_weight * towards(p_.migration));
   return budget.total();

@@ -43,7 +43,10 @@ ProbeResult probe_sphere(const V3f& o, const V3f& d, float speed, const SphereOb
     result.kind = ProbeCase::inside;
     const V3f out = -to_centre;
     const float length = out.length();
-    result.force = (length > 0.0f ? out / length : fallback_turn(d)) * max_force;
+    // From nothing at the grown surface to max_force at the sphere's own surface and more
+    // within it, so a boid between two spheres is pushed off the nearer harder.
+    const float depth = (grown - length) / probe.radius;
+    result.force = (length > 0.0f ? out / length : fallback_turn(d)) * (max_force * depth);
     return result;
   }
   if (!root || root->t > probe.look_ahead) {
@@ -65,22 +68,34 @@ ProbeResult probe_sphere(const V3f& o, const V3f& d, float speed, const SphereOb
   return result;
 }
 
-V3f avoidance_force(const V3f& o, const V3f& d, float speed,
-                    std::span<const SphereObstacle> spheres, const ProbeShape& probe,
-                    float max_force) {
-  V3f inside(0.0f);
+V3f Avoidance::without_inward(V3f f) const {
+  for (int k = 0; k < inside; ++k) {
+    const float along = f.dot(outward[static_cast<size_t>(k)]);
+    if (along < 0.0f) f -= along * outward[static_cast<size_t>(k)];
+  }
+  return f;
+}
+
+Avoidance avoid_spheres(const V3f& o, const V3f& d, float speed,
+                        std::span<const SphereObstacle> spheres, const ProbeShape& probe,
+                        float max_force) {
+  Avoidance result;
   V3f nearest_force(0.0f);
   float nearest_t = std::numeric_limits<float>::infinity();
   for (const SphereObstacle& sphere : spheres) {
     const ProbeResult r = probe_sphere(o, d, speed, sphere, probe, max_force);
     if (r.kind == ProbeCase::inside) {
-      inside += r.force;
+      result.force += r.force;
+      const V3f out = o - sphere.centre;
+      if (result.inside < Avoidance::kMaxInside && out.length2() > 0.0f)
+        result.outward[static_cast<size_t>(result.inside++)] = out.normalized();
     } else if ((r.kind == ProbeCase::hit || r.kind == ProbeCase::skim) && r.t < nearest_t) {
       nearest_t = r.t;
       nearest_force = r.force;
     }
   }
-  return inside + nearest_force;
+  result.force += nearest_force;
+  return result;
 }
 
 }  // namespace prism

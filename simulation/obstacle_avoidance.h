@@ -5,6 +5,7 @@
 // renderer's own (renderer/geometry/sphere_intersect.h), not a second copy of the algebra.
 #pragma once
 
+#include <array>
 #include <span>
 
 #include <Imath/ImathVec.h>
@@ -47,14 +48,28 @@ Imath::V3f fallback_turn(const Imath::V3f& d);
 // For skim and hit the force is the lecture's: f = (E - C)/|E - C|, perpendicular to D, scaled
 // by the lateral acceleration that would carry the cylinder clear of the grown sphere before
 // reaching it: 2 (R + r - |E - C|) speed^2 / t^2, which rises as the miss distance falls.
-// Inside, the force points out along O - C at `max_force`.
+// Inside, the force points out along O - C, max_force times the depth below the grown
+// surface in probe radii (max_force at the sphere's own surface).
 ProbeResult probe_sphere(const Imath::V3f& o, const Imath::V3f& d, float speed,
                          const SphereObstacle& sphere, const ProbeShape& probe, float max_force);
 
-// Every sphere against the probe: the pushes out of all spheres the boid is inside, plus the
-// force of the nearest sphere ahead (skim or hit), the one to deal with first.
-Imath::V3f avoidance_force(const Imath::V3f& o, const Imath::V3f& d, float speed,
-                           std::span<const SphereObstacle> spheres, const ProbeShape& probe,
-                           float max_force);
+// What the probe decides for one boid against every sphere.
+struct Avoidance {
+  // The pushes out of all spheres the boid is inside, plus the force of the nearest sphere
+  // ahead (skim or hit), the one to deal with first.
+  Imath::V3f force{0.0f};
+  // The outward directions of the first kMaxInside spheres the boid is inside: no other
+  // behaviour may steer it further in.
+  static constexpr int kMaxInside = 4;
+  int inside = 0;
+  std::array<Imath::V3f, kMaxInside> outward;
+
+  // `f` without its parts that point into a sphere the boid is inside.
+  Imath::V3f without_inward(Imath::V3f f) const;
+};
+
+Avoidance avoid_spheres(const Imath::V3f& o, const Imath::V3f& d, float speed,
+                        std::span<const SphereObstacle> spheres, const ProbeShape& probe,
+                        float max_force);
 
 }  // namespace prism

@@ -110,12 +110,16 @@ TEST(BoidsAvoidance, HeadingAtTheCentreTurnsAWellDefinedStableWay) {
 
 TEST(BoidsAvoidance, InsidePushesOutAlongTheRadius) {
   const SphereObstacle s{V3f(0.0f, 0.0f, 1.0f), 1.0f};
+  // 0.6 from the centre: 0.9 below the grown surface (radius 1.5), 1.8 probe radii.
   const V3f o(0.0f, 0.6f, 1.0f);
   const ProbeResult r = probe(s, o);
   ASSERT_EQ(r.kind, ProbeCase::inside);
-  EXPECT_NEAR(r.force.y, kMaxForce, 1e-5f);
+  EXPECT_NEAR(r.force.y, 1.8f * kMaxForce, 1e-4f);
   EXPECT_NEAR(r.force.x, 0.0f, 1e-6f);
   EXPECT_NEAR(r.force.z, 0.0f, 1e-6f);
+  // Deeper pushes harder; at the grown surface it fades to nothing.
+  EXPECT_GT(probe(s, V3f(0.0f, 0.3f, 1.0f)).force.y, r.force.y);
+  EXPECT_LT(probe(s, V3f(0.0f, 1.49f, 1.0f)).force.length(), 0.03f * kMaxForce);
 }
 
 TEST(BoidsGrid, FindsEveryPointWithinTheRadius) {
