@@ -218,10 +218,10 @@ json frame_scene(const FlockParameters& flock, const ClipSettings& clip,
                    {"camera", 0},
                    {"matrix", node_matrix(right, up, -forward, clip.camera.eye)}});
 
-  // A warm sun from above one side and a cool, weak fill from the other; a light shines
-  // down its -z.
+  // A warm sun from above one side and a cool, weak fill from behind the camera (its shadows fall
+  // behind what casts them); a light shines down its -z.
   const V3f sun = V3f(-0.4f, -1.0f, -0.5f).normalized();
-  const V3f fill = V3f(0.6f, -0.3f, 0.7f).normalized();
+  const V3f fill = V3f(0.3f, -0.7f, -0.65f).normalized();
   doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"name", "sun"},
                                                          {"type", "directional"},
                                                          {"color", {1.0f, 0.95f, 0.85f}},
@@ -229,7 +229,7 @@ json frame_scene(const FlockParameters& flock, const ClipSettings& clip,
                                                         {{"name", "fill"},
                                                          {"type", "directional"},
                                                          {"color", {0.7f, 0.8f, 1.0f}},
-                                                         {"intensity", 0.6f}}};
+                                                         {"intensity", 0.5f}}};
   int light = 0;
   for (const V3f& direction : {sun, fill}) {
     V3f x, y;
