@@ -94,6 +94,7 @@ Flock::Flock(const FlockParameters& parameters, int threads)
   }
   next_position_.resize(n);
   next_velocity_.resize(n);
+  heading_.resize(n);
 }
 
 V3f Flock::steering(size_t i) const {
@@ -113,8 +114,7 @@ V3f Flock::steering(size_t i) const {
     const float d2 = offset.length2();
     if (d2 > r2 || d2 == 0.0f) return;  // a boid on top of this one gives no direction
     if (cos_half_fov_ > -1.0f && offset.dot(d) < cos_half_fov_ * std::sqrt(d2)) return;
-    const float neighbour_speed = velocity_[j].length();
-    if (neighbour_speed > 0.0f) heading_sum += velocity_[j] / neighbour_speed;
+    heading_sum += heading_[j];
     centre_sum += position_[j];
     ++neighbours;
     // Away, from full strength at contact to nothing at the separation radius.
@@ -168,6 +168,14 @@ void Flock::step() {
   grid_.build(position_);
   const float dt = p_.time_step;
   arena_.execute([&] {
+    // Each boid's unit heading once per step, not once for every boid that sees it.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, velocity_.size(), 1024),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t i = range.begin(); i != range.end(); ++i) {
+                          const float speed = velocity_[i].length();
+                          heading_[i] = speed > 0.0f ? velocity_[i] / speed : V3f(0.0f);
+                        }
+                      });
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, position_.size(), 256),
         [&](const tbb::blocked_range<size_t>& range) {

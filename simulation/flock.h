@@ -41,6 +41,7 @@ class Flock {
   NeighbourGrid grid_;
   std::vector<Imath::V3f> position_, velocity_;
   std::vector<Imath::V3f> next_position_, next_velocity_;
+  std::vector<Imath::V3f> heading_;  // velocity / speed, or 0 at rest: this step's
   uint64_t steps_ = 0;
   tbb::task_arena arena_;
 };

@@ -7,14 +7,14 @@ namespace prism {
 
 namespace {
 // A box far larger than the radius would need billions of cells; past this many per axis the
-// cells grow instead (still at least the radius, so the 27-cell rule holds).
-constexpr int kMaxCellsPerAxis = 128;
+// cells grow instead (never narrower than radius / kReach, so the block still covers it).
+constexpr int kMaxCellsPerAxis = 256;
 }  // namespace
 
 NeighbourGrid::NeighbourGrid(const AxisBox& bounds, float radius) : origin_(bounds.min) {
   const Imath::V3f extent = bounds.max - bounds.min;
   const float largest = std::max({extent.x, extent.y, extent.z});
-  const float cell = std::max(radius, largest / kMaxCellsPerAxis);
+  const float cell = std::max(radius / kReach, largest / kMaxCellsPerAxis);
   inverse_cell_ = 1.0f / cell;
   for (int axis = 0; axis < 3; ++axis)
     dims_[axis] =
