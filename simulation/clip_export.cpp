@@ -3,13 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <stdexcept>
-#include <system_error>
 
 #include <OpenImageIO/strutil.h>
 
-#include "renderer/temporary_files.h"
+#include "simulation/atomic_write.h"
 #include "simulation/flock.h"
 
 namespace prism {
@@ -110,28 +107,6 @@ struct GeometryBuffer {
 // A sphere palette that reads apart from the warm boids.
 constexpr float kSphereColours[][3] = {
     {0.20f, 0.35f, 0.70f}, {0.25f, 0.55f, 0.45f}, {0.55f, 0.55f, 0.60f}, {0.45f, 0.30f, 0.60f}};
-
-void write_atomically(const fs::path& target, const std::string& text) {
-  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  remove_stale_temporaries(dir, target.filename());
-  const fs::path temporary = dir / temporary_name(target.filename());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      fs::remove(temporary, ignored);
-      throw std::runtime_error(target.string() + ": cannot be written");
-    }
-  }
-  std::error_code error;
-  fs::rename(temporary, target, error);
-  if (error) {
-    fs::remove(temporary, error);
-    throw std::runtime_error(target.string() + ": cannot be written");
-  }
-}
 
 }  // namespace
 
@@ -294,12 +269,12 @@ ClipLayout write_clip(const FlockConfig& config, const fs::path& dir, int thread
   flock.run(config.clip.warmup_steps);
   for (int frame = 0; frame < layout.frames; ++frame) {
     if (frame > 0) flock.run(config.clip.steps_per_frame);
-    write_atomically(
+    write_text_atomically(
         layout.scene(frame),
         frame_scene(config.flock, config.clip, flock.positions(), flock.velocities()).dump());
     if (frame_written) frame_written(frame);
   }
-  write_atomically(layout.job_file(), clip_jobs(config.clip, layout).dump(1) + "\n");
+  write_text_atomically(layout.job_file(), clip_jobs(config.clip, layout).dump(1) + "\n");
   return layout;
 }
 

@@ -14,6 +14,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include "renderer/temporary_files.h"
+#include "simulation/atomic_write.h"
 
 extern char** environ;
 
@@ -66,19 +67,9 @@ void write_contact_sheet(const std::vector<fs::path>& frames, const fs::path& ou
     OIIO::ImageBufAlgo::paste(sheet, (k % cols) * (w + kGap), (k / cols) * (h + kGap), 0, 0,
                               images[k], OIIO::ROI(0, w, 0, h, 0, 1, 0, channels));
   }
-  const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
-  remove_stale_temporaries(dir, output.filename());
-  const fs::path temporary = dir / temporary_name(output.filename());
-  std::error_code error;
-  if (!sheet.write(temporary.string(), OIIO::TypeUnknown, "png")) {
-    fs::remove(temporary, error);
-    throw std::runtime_error(output.string() + ": cannot be written: " + sheet.geterror());
-  }
-  fs::rename(temporary, output, error);
-  if (error) {
-    fs::remove(temporary, error);
-    throw std::runtime_error(output.string() + ": cannot be written: " + error.message());
-  }
+  write_atomically(output, [&](const fs::path& temporary) -> std::string {
+    return sheet.write(temporary.string(), OIIO::TypeUnknown, "png") ? "" : sheet.geterror();
+  });
 }
 
 std::string write_video(const std::vector<fs::path>& frames, const fs::path& output, double fps) {
@@ -95,34 +86,35 @@ std::string write_video(const std::vector<fs::path>& frames, const fs::path& out
       out << "duration " << 1.0 / fps << "\n";
     }
   }
-  const fs::path temporary = dir / temporary_name(output.filename());
-  const std::string rate = std::to_string(fps);
-  std::vector<std::string> args = {kFfmpeg, "-nostdin", "-loglevel", "error", "-y", "-f", "concat",
-                                   "-safe", "0", "-i", list.string(), "-r", rate, "-c:v", "libx264",
-                                   "-pix_fmt", "yuv420p",
-                                   // H.264 in 4:2:0 needs even sizes.
-                                   "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-movflags",
-                                   "+faststart", "-f", "mp4", temporary.string()};
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  int status = 0;
-  const int spawned = posix_spawn(&pid, kFfmpeg, nullptr, nullptr, argv.data(), environ);
+  const auto encode = [&](const fs::path& temporary) -> std::string {
+    const std::string rate = std::to_string(fps);
+    std::vector<std::string> args = {kFfmpeg, "-nostdin", "-loglevel", "error", "-y", "-f",
+                                     "concat", "-safe", "0", "-i", list.string(), "-r", rate,
+                                     "-c:v", "libx264", "-pix_fmt", "yuv420p",
+                                     // H.264 in 4:2:0 needs even sizes.
+                                     "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-movflags",
+                                     "+faststart", "-f", "mp4", temporary.string()};
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    int status = 0;
+    if (posix_spawn(&pid, kFfmpeg, nullptr, nullptr, argv.data(), environ) != 0)
+      return "ffmpeg could not be started";
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+      return "ffmpeg failed (status " + std::to_string(status) + ")";
+    return "";
+  };
+  std::string why;
+  try {
+    write_atomically(output, encode);
+  } catch (const std::runtime_error& e) {
+    why = e.what();
+  }
   std::error_code error;
-  if (spawned == 0) waitpid(pid, &status, 0);
   fs::remove(list, error);
-  if (spawned != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    fs::remove(temporary, error);
-    return spawned != 0 ? "ffmpeg could not be started"
-                        : "ffmpeg failed (status " + std::to_string(status) + ")";
-  }
-  fs::rename(temporary, output, error);
-  if (error) {
-    fs::remove(temporary, error);
-    return output.string() + ": cannot be written: " + error.message();
-  }
-  return "";
+  return why;
 }
 
 }  // namespace prism
