@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "integrators/registry.h"
+#include "scene_io/gltf_loader.h"
+#include "simulation/obstacle_scene.h"
 
 namespace prism {
 namespace {
@@ -378,6 +380,23 @@ FlockConfig read_flock_config(const std::filesystem::path& path) {
     }
   }
 
+  // Spheres of a glTF file join the listed ones, read now so that a file that cannot be
+  // loaded is a config error like any other.
+  const ObjectReader scene = top.child("obstacle_scene");
+  std::string scene_file;
+  bool detect_spheres = false;
+  scene.text("file", &scene_file);
+  scene.boolean("detect_spheres", &detect_spheres);
+  scene.finish({"file", "detect_spheres"});
+  if (!scene_file.empty()) {
+    const std::filesystem::path file = path.parent_path() / scene_file;
+    try {
+      for (const SphereObstacle& s : scene_spheres(file, detect_spheres)) p.obstacles.push_back(s);
+    } catch (const LoadError& e) {
+      fail(where, "obstacle_scene.file", e.what());
+    }
+  }
+
   const ObjectReader simulation = top.child("simulation");
   simulation.number("time_step", &p.time_step);
   simulation.integer("steps_per_frame", &c.steps_per_frame);
@@ -399,7 +418,7 @@ FlockConfig read_flock_config(const std::filesystem::path& path) {
   render.finish({"resolution", "spp", "integrator", "ground", "background", "camera"});
 
   top.finish({"version", "seed", "boids", "migration", "bounds", "spawn", "avoidance", "obstacles",
-              "simulation", "render"});
+              "obstacle_scene", "simulation", "render"});
   check_flock_parameters(p, where);
   check_clip_settings(c, where);
   return config;

@@ -12,12 +12,14 @@
 
 #include <gtest/gtest.h>
 
+#include "renderer/geometry/sphere_mesh.h"
 #include "scene_io/gltf_loader.h"
 #include "simulation/clip_export.h"
 #include "simulation/flock.h"
 #include "simulation/flock_config.h"
 #include "simulation/neighbour_grid.h"
 #include "simulation/obstacle_avoidance.h"
+#include "tests/gltf_test_builder.h"
 
 namespace prism {
 namespace {
@@ -290,6 +292,47 @@ TEST_F(BoidsConfig, BadValuesNameTheirField) {
   } catch (const FlockConfigError& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/flock.json: cannot be read");
   }
+}
+
+TEST_F(BoidsConfig, ObstaclesFromAGltfFilesSpheres) {
+  // scenes/spheres.gltf has four PRISM_sphere nodes: radius 1 scaled by 1, 0.8, 0.55, 0.35.
+  const std::string scene = PRISM_SOURCE_DIR "/scenes/spheres.gltf";
+  const FlockConfig c = read_flock_config(write(
+      R"({"version": 1, "obstacles": [{"centre": [9, 9, 9], "radius": 0.5}],
+          "obstacle_scene": {"file": ")" +
+      scene + R"("}})"));
+  ASSERT_EQ(c.flock.obstacles.size(), 5u);
+  EXPECT_EQ(c.flock.obstacles[0].radius, 0.5f);  // the listed ones first
+  EXPECT_NEAR(c.flock.obstacles[1].radius, 1.0f, 1e-6f);
+  EXPECT_NEAR(c.flock.obstacles[1].centre.x, -1.25f, 1e-6f);  // "mirror sphere"
+  EXPECT_NEAR(c.flock.obstacles[4].radius, 0.35f, 1e-6f);
+
+  // A tessellated sphere (an icosphere of radius 2 at (1, 2, 3)) counts with detect_spheres.
+  test::Builder b;
+  const UnitIcosphere ico = make_unit_icosphere(3);
+  std::vector<float> xyz;
+  for (const Imath::V3d& v : ico.vertices)
+    for (int a = 0; a < 3; ++a) xyz.push_back(static_cast<float>(v[a] * 2.0));
+  const int positions = b.positions(xyz);
+  const int indices = b.accessor(b.view(ico.indices), 5125, ico.indices.size(), "SCALAR");
+  b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", positions}}}, {"indices", indices}})},
+          {"translation", {1.0, 2.0, 3.0}}});
+  const std::string ball = b.write("boids_ball.gltf");
+  const auto with = [&](bool detect) {
+    return read_flock_config(write(R"({"version": 1, "obstacle_scene": {"file": ")" + ball +
+                                   R"(", "detect_spheres": )" + (detect ? "true" : "false") + "}}"))
+        .flock.obstacles;
+  };
+  EXPECT_TRUE(with(false).empty());
+  const auto detected = with(true);
+  ASSERT_EQ(detected.size(), 1u);
+  EXPECT_NEAR(detected[0].radius, 2.0f, 1e-5f);  // its vertices lie on radius 2, to float rounding
+  EXPECT_NEAR(detected[0].centre.z, 3.0f, 1e-5f);
+  fs::remove(ball);
+
+  const std::string missing = error(R"("obstacle_scene": {"file": "/nonexistent/field.gltf"})");
+  EXPECT_NE(missing.find(": obstacle_scene.file: "), std::string::npos) << missing;
+  EXPECT_EQ(missing.find('\n'), std::string::npos) << missing;
 }
 
 TEST(BoidsClip, FramesLoadBackWithEveryBoidOrientedAlongItsVelocity) {
