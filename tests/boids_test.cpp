@@ -279,6 +279,9 @@ TEST_F(BoidsConfig, BadValuesNameTheirField) {
   EXPECT_NE(error(R"("avoidance": {"look_ahead": 1e999})")
                 .find(": avoidance.look_ahead: is not a finite number"),
             std::string::npos);
+  EXPECT_NE(error(R"("render": {"integrator": "direct"})")
+                .find(": render.integrator: 'direct' is not one of phong, shadow, whitted"),
+            std::string::npos);
   EXPECT_NE(error(R"("boids": {"raduis": 1})").find(": boids.raduis: no such key"),
             std::string::npos);
   EXPECT_NE(error(R"("boids": {"count": 2.5})").find(": boids.count: is not an integer"),
