@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/batch_command.h"
+#include "apps/boids_command.h"
 #include "apps/compare_command.h"
 #include "apps/diff_command.h"
 #include "apps/info_command.h"
@@ -24,6 +25,8 @@ int main(int argc, char** argv) {
   CLI::App* info = prism::add_info_command(app, &info_options);
   prism::BatchCommandOptions batch_options;
   CLI::App* batch = prism::add_batch_command(app, &batch_options);
+  prism::BoidsOptions boids_options;
+  CLI::App* boids = prism::add_boids_command(app, &boids_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -40,6 +43,7 @@ int main(int argc, char** argv) {
                  : compare->parsed() ? "compare "
                  : info->parsed()    ? "info "
                  : batch->parsed()   ? "batch "
+                 : boids->parsed()   ? "boids "
                                      : "");
     return 2;
   }
@@ -51,5 +55,6 @@ int main(int argc, char** argv) {
   if (compare->parsed()) return prism::run_compare(compare_options);
   if (info->parsed()) return prism::run_info(info_options);
   if (batch->parsed()) return prism::run_batch(batch_options);
+  if (boids->parsed()) return prism::run_boids(boids_options);
   return 2;
 }
