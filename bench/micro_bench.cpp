@@ -227,7 +227,8 @@ BENCHMARK(BM_OffsetRayOrigin);
 
 // The pixel sample every camera ray pays for when spp > 1: the Owen-scrambled Sobol point
 // (renderer/sampling/sampler.h) against the independent hash it replaced (two sample_uniform
-// calls). items_per_second is 2D samples per second.
+// calls). items_per_second is 2D samples per second. Instruction counts per call:
+// bench/sampler_cost_bench.cpp.
 void BM_PixelSample(benchmark::State& state) {
   const bool sobol = state.range(0) != 0;
   for (auto _ : state) {
@@ -248,22 +249,6 @@ void BM_PixelSample(benchmark::State& state) {
   state.SetLabel(sobol ? "sobol-owen" : "independent");
 }
 BENCHMARK(BM_PixelSample)->Arg(0)->Arg(1);
-
-// What an integrator pays for each further random number: sample_dimension for dimensions
-// 2..9 (four padded pairs), 64 pixels x 64 samples. items_per_second is dimensions per
-// second. A fixed iteration count makes the work the same in every run, so an instruction
-// count (callgrind) divided by iterations x 32768 is instructions per dimension.
-void BM_SampleDimension(benchmark::State& state) {
-  for (auto _ : state) {
-    float sum = 0.0f;
-    for (uint64_t pixel = 0; pixel < 64; ++pixel)
-      for (uint32_t k = 0; k < 64; ++k)
-        for (uint32_t d = 2; d < 10; ++d) sum += sample_dimension(pixel, k, d);
-    benchmark::DoNotOptimize(sum);
-  }
-  state.SetItemsProcessed(int64_t(state.iterations()) * 64 * 64 * 8);
-}
-BENCHMARK(BM_SampleDimension)->Iterations(20);
 
 // ---------------------------------------------------------------------------------------
 // Shading and the tile loop on the shipped default scene.

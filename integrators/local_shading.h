@@ -36,13 +36,14 @@ struct LightRange {
 };
 
 // The local shading equation, with each light's term handed to
-// `light(radiance, shadow_ray, contribution)` in the lights' order, for every light of
+// `light(radiance, shadow_ray, contribution, index)` in the lights' order, for every light of
 // `range` that faces the surface and can reach it (lights behind it, N . L <= 0, and lights
 // light_may_reach rules out are skipped without a ray):
-// `contribution()` is its term, which `light` adds to `radiance` if the light is visible
-// from the hit along `shadow_ray` (set only when Shadows). Returns `radiance` as the calls
-// left it, the ambient term to begin with. shade_local decides visibility at once; the
-// direct-light tile loop collects a packet's shadow rays first (integrators/direct.cpp).
+// `index` is the light's in the scene, `contribution()` its term, which `light` adds to `radiance`
+// if the light is visible from the hit along `shadow_ray` (set only when Shadows). Returns
+// `radiance` as the calls left it, the ambient term to begin with. shade_local decides visibility
+// at once; the direct-light tile loop collects a packet's shadow rays first
+// (integrators/direct.cpp).
 template <bool Shadows, typename LightFn>
 Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& ambient,
                             const SurfaceHit& hit, const SurfaceResponse& surface,
@@ -78,9 +79,10 @@ Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& am
       shadow_ray.direction = arrival.wi;
       shadow_ray.tfar = arrival.distance;
     }
-    light(radiance, shadow_ray, [&] {
-      return hadamard(bsdf.eval(to_viewer, arrival.wi, n), arrival.radiance) * cos_light;
-    });
+    light(
+        radiance, shadow_ray,
+        [&] { return hadamard(bsdf.eval(to_viewer, arrival.wi, n), arrival.radiance) * cos_light; },
+        l);
   }
   return radiance;
 }
@@ -90,14 +92,15 @@ template <bool Shadows>
 Imath::V3f shade_local(const RenderContext& context, const AmbientLight& ambient,
                        const SurfaceHit& hit, const SurfaceResponse& surface,
                        const Imath::V3f& to_viewer, RayCounters* counters) {
-  return shade_local_with<Shadows>(context, ambient, hit, surface, to_viewer,
-                                   [&](V3f& radiance, const Ray& shadow_ray, auto&& contribution) {
-                                     if constexpr (Shadows) {
-                                       ++(*counters)[RayKind::shadow];
-                                       if (context.scene.geometry().occluded(shadow_ray)) return;
-                                     }
-                                     radiance += contribution();
-                                   });
+  return shade_local_with<Shadows>(
+      context, ambient, hit, surface, to_viewer,
+      [&](V3f& radiance, const Ray& shadow_ray, auto&& contribution, size_t) {
+        if constexpr (Shadows) {
+          ++(*counters)[RayKind::shadow];
+          if (context.scene.geometry().occluded(shadow_ray)) return;
+        }
+        radiance += contribution();
+      });
 }
 
 }  // namespace prism

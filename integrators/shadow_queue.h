@@ -23,18 +23,32 @@ class ShadowQueue {
   static constexpr int kLightsPerChunk = 8;
   static constexpr int kCapacity = EmbreeScene::kPacketSize * kLightsPerChunk;
 
-  void add(int lane, const Ray& ray, const Imath::V3f& contribution) {
+  // `slot`: the light's place in its chunk, 0 .. kLightsPerChunk - 1.
+  void add(int lane, int slot, const Ray& ray, const Imath::V3f& contribution) {
     lane_[count_] = lane;
+    slot_[count_] = slot;
     rays_[count_] = ray;
     contribution_[count_] = contribution;
     ++count_;
   }
   // Traces the queue and adds each unblocked term to its lane's radiance, in queue order.
+  // The rays are traced sorted by light (a stable counting sort), so a packet holds rays
+  // from neighbouring points towards one light, as coherent as camera rays, while the terms
+  // are still added lane by lane in the order they were queued.
   void resolve(const EmbreeScene& geometry, SampleResult* results, RayCounters* counters) {
+    int start[kLightsPerChunk + 1] = {};
+    for (int k = 0; k < count_; ++k) ++start[slot_[k] + 1];
+    for (int s = 0; s < kLightsPerChunk; ++s) start[s + 1] += start[s];
+    for (int k = 0; k < count_; ++k) {
+      const int at = start[slot_[k]]++;
+      order_[at] = k;
+      sorted_[at] = rays_[k];
+    }
     for (int first = 0; first < count_; first += EmbreeScene::kPacketSize) {
       const int n = std::min(EmbreeScene::kPacketSize, count_ - first);
-      geometry.occluded_packet(&rays_[first], n, &blocked_[first]);
+      geometry.occluded_packet(&sorted_[first], n, &sorted_blocked_[first]);
     }
+    for (int k = 0; k < count_; ++k) blocked_[order_[k]] = sorted_blocked_[k];
     for (int k = 0; k < count_; ++k)
       if (!blocked_[k]) results[lane_[k]].radiance += contribution_[k];
     (*counters)[RayKind::shadow] += static_cast<uint64_t>(count_);
@@ -44,7 +58,11 @@ class ShadowQueue {
  private:
   int count_ = 0;
   int lane_[kCapacity];
+  int slot_[kCapacity];
+  int order_[kCapacity];  // order_[j]: the queue entry traced j-th
   Ray rays_[kCapacity];
+  Ray sorted_[kCapacity];
+  bool sorted_blocked_[kCapacity];
   Imath::V3f contribution_[kCapacity];
   bool blocked_[kCapacity];
 };
@@ -74,8 +92,8 @@ void shade_packet_direct(const RenderContext& context, const AmbientLight& ambie
       if (!p.found[i]) continue;
       const Imath::V3f start = shade_local_with<true>(
           context, first == 0 ? ambient : none, p.hits[i], surfaces[i], -p.rays[i].direction,
-          [&](Imath::V3f&, const Ray& shadow_ray, auto&& contribution) {
-            queue->add(i, shadow_ray, contribution());
+          [&](Imath::V3f&, const Ray& shadow_ray, auto&& contribution, size_t light) {
+            queue->add(i, static_cast<int>(light - first), shadow_ray, contribution());
           },
           chunk);
       if (first == 0) results[i].radiance = start;
