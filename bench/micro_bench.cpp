@@ -227,7 +227,8 @@ BENCHMARK(BM_OffsetRayOrigin);
 
 // The pixel sample every camera ray pays for when spp > 1: the Owen-scrambled Sobol point
 // (renderer/sampling/sampler.h) against the independent hash it replaced (two sample_uniform
-// calls). items_per_second is 2D samples per second.
+// calls). items_per_second is 2D samples per second. Instruction counts per call:
+// bench/sampler_cost_bench.cpp.
 void BM_PixelSample(benchmark::State& state) {
   const bool sobol = state.range(0) != 0;
   for (auto _ : state) {

@@ -11,10 +11,14 @@
 // its depth limit. So a white furnace renders 1, never more, with every integrator.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 
 #include "renderer/integrator.h"
 #include "renderer/math.h"
+#include "renderer/shading/light_culling.h"
 #include "renderer/shading/material.h"
 
 namespace prism {
@@ -25,24 +29,36 @@ struct AmbientLight {
   AlbedoScope scope = AlbedoScope::all_lobes;
 };
 
+// Which of the scene's lights a call shades: [first, last), clamped to the lights there are.
+struct LightRange {
+  size_t first = 0;
+  size_t last = std::numeric_limits<size_t>::max();
+};
+
 // The local shading equation, with each light's term handed to
-// `light(radiance, shadow_ray, contribution)` in the lights' order, for every light that
-// faces the surface (lights behind it, N . L <= 0, are skipped without a ray):
-// `contribution()` is its term, which `light` adds to `radiance` if the light is visible
-// from the hit along `shadow_ray` (set only when Shadows). Returns `radiance` as the calls
-// left it, the ambient term to begin with. shade_local decides visibility at once; the
-// direct-light tile loop collects a packet's shadow rays first (integrators/direct.cpp).
+// `light(radiance, shadow_ray, contribution, index)` in the lights' order, for every light of
+// `range` that faces the surface and can reach it (lights behind it, N . L <= 0, and lights
+// light_may_reach rules out are skipped without a ray):
+// `index` is the light's in the scene, `contribution()` its term, which `light` adds to `radiance`
+// if the light is visible from the hit along `shadow_ray` (set only when Shadows). Returns
+// `radiance` as the calls left it, the ambient term to begin with. shade_local decides visibility
+// at once; the direct-light tile loop collects a packet's shadow rays first
+// (integrators/direct.cpp).
 template <bool Shadows, typename LightFn>
 Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& ambient,
                             const SurfaceHit& hit, const SurfaceResponse& surface,
-                            const Imath::V3f& to_viewer, LightFn&& light) {
+                            const Imath::V3f& to_viewer, LightFn&& light, LightRange range = {}) {
   const Bsdf& bsdf = surface.bsdf;
   const V3f n = bsdf.normal_towards(to_viewer);
   V3f radiance(0.0f);
   if (ambient.radiance.x != 0.0f || ambient.radiance.y != 0.0f || ambient.radiance.z != 0.0f)
     radiance = hadamard(ambient.radiance, bsdf.albedo(to_viewer, n, hit.back_face, ambient.scope)) *
                surface.ambient_occlusion;
-  for (const LightSource& source : context.scene.lights()) {
+  const auto& lights = context.scene.lights();
+  const size_t last = std::min(range.last, lights.size());
+  for (size_t l = range.first; l < last; ++l) {
+    const LightSource& source = lights[l];
+    if (!light_may_reach(source, hit.position, n)) continue;
     // Every light is a delta light today, whose sample needs no random numbers.
     LightSample arrival;
     if (!source.sample(hit.position, Imath::V2f(0.0f), &arrival)) continue;
@@ -63,9 +79,10 @@ Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& am
       shadow_ray.direction = arrival.wi;
       shadow_ray.tfar = arrival.distance;
     }
-    light(radiance, shadow_ray, [&] {
-      return hadamard(bsdf.eval(to_viewer, arrival.wi, n), arrival.radiance) * cos_light;
-    });
+    light(
+        radiance, shadow_ray,
+        [&] { return hadamard(bsdf.eval(to_viewer, arrival.wi, n), arrival.radiance) * cos_light; },
+        l);
   }
   return radiance;
 }
@@ -75,14 +92,15 @@ template <bool Shadows>
 Imath::V3f shade_local(const RenderContext& context, const AmbientLight& ambient,
                        const SurfaceHit& hit, const SurfaceResponse& surface,
                        const Imath::V3f& to_viewer, RayCounters* counters) {
-  return shade_local_with<Shadows>(context, ambient, hit, surface, to_viewer,
-                                   [&](V3f& radiance, const Ray& shadow_ray, auto&& contribution) {
-                                     if constexpr (Shadows) {
-                                       ++(*counters)[RayKind::shadow];
-                                       if (context.scene.geometry().occluded(shadow_ray)) return;
-                                     }
-                                     radiance += contribution();
-                                   });
+  return shade_local_with<Shadows>(
+      context, ambient, hit, surface, to_viewer,
+      [&](V3f& radiance, const Ray& shadow_ray, auto&& contribution, size_t) {
+        if constexpr (Shadows) {
+          ++(*counters)[RayKind::shadow];
+          if (context.scene.geometry().occluded(shadow_ray)) return;
+        }
+        radiance += contribution();
+      });
 }
 
 }  // namespace prism

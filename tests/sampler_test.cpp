@@ -122,6 +122,24 @@ TEST(Sampler, UnscrambledSobolMatchesTheKnownFirstPoints) {
   EXPECT_EQ(0xf0000000u, sobol_dim1(8));  // v_4 = 15/16
 }
 
+// sobol_dim1 is computed by a butterfly over the bits (Lucas' theorem) rather than the
+// direction-number recurrence; both must agree on every index, small and large.
+TEST(Sampler, Dimension1ButterflyMatchesTheDirectionNumberRecurrence) {
+  const auto recurrence = [](uint32_t index) {
+    uint32_t result = 0;
+    for (uint32_t v = 0x80000000u; index != 0; index >>= 1, v ^= v >> 1)
+      if (index & 1u) result ^= v;
+    return result;
+  };
+  for (uint32_t k = 0; k < (1u << 16); ++k) ASSERT_EQ(recurrence(k), sobol_dim1(k)) << k;
+  uint32_t k = 12345u;
+  for (int i = 0; i < 100000; ++i) {
+    k = k * 1664525u + 1013904223u;
+    ASSERT_EQ(recurrence(k), sobol_dim1(k)) << k;
+  }
+  EXPECT_EQ(recurrence(0xffffffffu), sobol_dim1(0xffffffffu));
+}
+
 TEST(Sampler, UnscrambledSobolIsA02Sequence) {
   for (int m = 0; m <= 12; ++m) {
     EXPECT_TRUE(is_02_net(m, [](uint32_t k) {

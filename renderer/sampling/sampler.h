@@ -39,38 +39,47 @@ inline uint32_t sobol_dim0(uint32_t index) {
   return reverse_bits32(index);
 }
 
-// Sobol dimension 1: primitive polynomial x + 1 (degree 1, m_1 = 1). The direction-number
-// recurrence m_k = 2 m_(k-1) xor m_(k-1) becomes, for v_k = m_k / 2^k as a 0.32 fraction,
-// v_1 = 1/2 and v_(k+1) = v_k xor (v_k >> 1): the columns of the Pascal matrix mod 2.
-// Index bit k (from the least significant) selects v_(k+1); the loop stops at the index's
-// highest set bit, so small indices cost few steps.
-inline uint32_t sobol_dim1(uint32_t index) {
-  uint32_t result = 0;
-  for (uint32_t v = 0x80000000u; index != 0; index >>= 1, v ^= v >> 1) {
-    if (index & 1u) result ^= v;
-  }
-  return result;
+// Sobol dimension 1 with its bits reversed (bit j of the result is the fraction's bit
+// 31 - j). The primitive polynomial x + 1 (degree 1, m_1 = 1) gives the direction numbers
+// m_(k+1) = m_k xor (m_k << 1): the rows of Pascal's triangle mod 2, so by Lucas' theorem
+// index bit k sets bit j exactly when j's bits are a subset of k's. Bit j of the result is
+// then the parity of the index bits k that are supersets of j: five butterfly steps, one per
+// bit of j, instead of a loop over the index's 32 bits.
+inline uint32_t sobol_dim1_reversed(uint32_t index) {
+  uint32_t x = index;
+  x ^= (x >> 1) & 0x55555555u;
+  x ^= (x >> 2) & 0x33333333u;
+  x ^= (x >> 4) & 0x0f0f0f0fu;
+  x ^= (x >> 8) & 0x00ff00ffu;
+  x ^= x >> 16;
+  return x;
 }
 
-// Owen's nested uniform scramble of a 0.32 fraction, on the 24 leading bits a float keeps.
-// Bit i (from the most significant) is flipped by a coin that depends on the seed and on
-// the i bits above it only: the node of the binary tree of dyadic intervals the point lies
-// in. Points in the same dyadic interval of length 2^-i share the flips of their first i
-// bits, so every elementary interval is mapped onto an elementary interval of the same size
-// (the net property survives), while each point becomes uniform on [0, 1).
-inline uint32_t owen_scramble_bits(uint32_t x, uint64_t seed, int bits) {
-  uint32_t flips = 0;
-  for (int i = 0; i < bits; ++i) {
-    // The node id (1 << i) | prefix numbers the tree's nodes uniquely across depths.
-    const uint64_t prefix = i == 0 ? 0u : x >> (32 - i);
-    const uint64_t node = (uint64_t{1} << i) | prefix;
-    const uint64_t coin = mix64(seed ^ (node * 0x9e3779b97f4a7c15ULL)) >> 63;
-    flips |= static_cast<uint32_t>(coin) << (31 - i);
-  }
-  return x ^ flips;
+// Sobol dimension 1 as a 0.32 fraction: index bit k (from the least significant) selects
+// the direction number v_(k+1), v_1 = 1/2 and v_(k+1) = v_k xor (v_k >> 1).
+inline uint32_t sobol_dim1(uint32_t index) {
+  return reverse_bits32(sobol_dim1_reversed(index));
 }
-inline uint32_t owen_scramble24(uint32_t x, uint64_t seed) {
-  return owen_scramble_bits(x, seed, 24) & 0xffffff00u;
+
+// Owen's nested uniform scramble, applied to a value whose bits are reversed (the fraction's
+// most significant bit in bit 0): the hash of Laine and Karras as Burley uses it ("Practical
+// Hash-based Owen Scrambling", JCGT 2020), with the constants of Vegdahl's better-mixing
+// variant (2021). Every step (adding the seed, multiplying by an odd number, xoring with a
+// multiple by an even number) is a bijection in which bit i of the result depends only on
+// bits 0..i of its input, i.e. on the fraction's i leading bits: each bit is flipped by a
+// function of the seed and the bits above it, the definition of a nested scramble. Points in
+// one dyadic interval share the flips of their leading bits, so every elementary interval
+// maps onto one of the same size and the net property survives; over random seeds each
+// point is uniform. Unlike a coin hashed per bit it is not exactly Owen's uniform random
+// tree, but Burley measures the same convergence; tests/sampler_test.cpp checks the nets
+// and the edge error.
+inline uint32_t owen_scramble_reversed(uint32_t x, uint32_t seed) {
+  x ^= x * 0x3d20adeau;
+  x += seed;
+  x *= (seed >> 16) | 1u;
+  x ^= x * 0x05526c56u;
+  x ^= x * 0x53a22864u;
+  return x;
 }
 
 // A 0.32 fraction with 24 significant bits as a float in [0, 1), never 1.0.
@@ -78,24 +87,33 @@ inline float fraction_to_float(uint32_t x) {
   return static_cast<float>(x >> 8) * 0x1.0p-24f;
 }
 
-// The scramble seed of one dimension of one pixel: separate seeds for the two dimensions
-// keep their scrambles independent (a shared seed would correlate x and y).
-inline uint64_t pixel_scramble_seed(uint64_t pixel_index, uint32_t dimension) {
-  return mix64(mix64(pixel_index ^ 0x5bd1e9955bd1e995ULL) + dimension + 1);
+// The scramble seeds of one pair of dimensions of one pixel, 64 bits: the high half seeds
+// the pair's first dimension's scramble, the low half its second's, and a product of both
+// the shuffle of the sample index (below). Each half is uniform and, for a hash of full
+// avalanche, independent of the other, so x and y are scrambled independently (a shared
+// seed would correlate them); the shuffle seed is uniform too and independent of either
+// half alone, and the multiplication's carries keep it from being a bitwise (linear)
+// function of the two.
+inline uint64_t pair_seeds(uint64_t pixel_index, uint32_t pair) {
+  return mix64(pixel_index * 0x9e3779b97f4a7c15ULL +
+               (static_cast<uint64_t>(pair) + 1) * 0xd1b54a32d192ed03ULL);
+}
+inline uint32_t scramble_seed(uint64_t seeds, bool second) {
+  return static_cast<uint32_t>(second ? seeds : seeds >> 32);
+}
+inline uint32_t shuffle_seed(uint64_t seeds) {
+  return (static_cast<uint32_t>(seeds >> 32) ^ static_cast<uint32_t>(seeds)) * 0x9e3779b1u;
+}
+
+// The point's fraction, given its unscrambled bits reversed: the dimension's Owen scramble
+// and the reversal back, as a float.
+inline float scrambled_fraction(uint32_t reversed_bits, uint32_t seed) {
+  return fraction_to_float(reverse_bits32(owen_scramble_reversed(reversed_bits, seed)));
 }
 
 struct PixelSample2D {
   float x, y;  // in [0, 1) across the pixel
 };
-
-// Sample `sample_index` of pixel `pixel_index`: a point of the pixel's own Owen-scrambled
-// Sobol (0,2)-sequence.
-inline PixelSample2D sobol_owen_pixel_sample(uint64_t pixel_index, uint32_t sample_index) {
-  return {fraction_to_float(
-              owen_scramble24(sobol_dim0(sample_index), pixel_scramble_seed(pixel_index, 0))),
-          fraction_to_float(
-              owen_scramble24(sobol_dim1(sample_index), pixel_scramble_seed(pixel_index, 1)))};
-}
 
 // Beyond the pixel position: a sample has as many dimensions as an integrator asks for
 // (a light choice, a BSDF lobe, a direction...), numbered from 2 in the order it asks.
@@ -103,26 +121,53 @@ inline PixelSample2D sobol_owen_pixel_sample(uint64_t pixel_index, uint32_t samp
 // sample index is first shuffled, seeded by (pixel, pair), then the pair takes Sobol
 // dimensions 0 and 1 of the shuffled index, Owen-scrambled (the padding of pbrt-v4's
 // PaddedSobolSampler, without its need to know the sample count). The shuffle is a nested
-// uniform scramble of the index's bits from the most significant down: each bit is flipped
-// by a coin that depends on the bits above it only, so every aligned block of 2^m indices
-// maps onto an aligned block of 2^m indices. The first 2^m samples of a pair are then an
-// aligned block of a (0,2)-sequence, a (0,m,2)-net, for every m: padding keeps the
-// stratification while decorrelating the pairs from each other and from the pixel
-// position. Pair 0 is the pixel position itself, unshuffled, as it always was.
-inline uint32_t shuffled_sample_index(uint32_t sample_index, uint64_t seed) {
-  return owen_scramble_bits(sample_index, seed, 32);
+// scramble of the index's bits from the most significant down (the same hash on the
+// reversed index): each bit is flipped by a function of the bits above it only, so every
+// aligned block of 2^m indices maps onto an aligned block of 2^m indices. The first 2^m
+// samples of a pair are then an aligned block of a (0,2)-sequence, a (0,m,2)-net, for every
+// m: padding keeps the stratification while decorrelating the pairs from each other and from
+// the pixel position. Pair 0 is the pixel position itself, unshuffled, as it always was.
+//
+// `reversed_index` is reverse_bits32(sample_index), which every dimension of a sample
+// shares: PixelSampler computes it once.
+inline uint32_t pair_sample_index(uint32_t sample_index, uint32_t reversed_index, uint32_t pair,
+                                  uint64_t seeds) {
+  if (pair == 0) return sample_index;
+  return reverse_bits32(owen_scramble_reversed(reversed_index, shuffle_seed(seeds)));
+}
+
+// Both dimensions of pair `pair`: one seed hash and one shuffle for the two.
+inline PixelSample2D sample_pair(uint64_t pixel_index, uint32_t sample_index,
+                                 uint32_t reversed_index, uint32_t pair) {
+  const uint64_t seeds = pair_seeds(pixel_index, pair);
+  const uint32_t index = pair_sample_index(sample_index, reversed_index, pair, seeds);
+  // Sobol dimension 0 reversed is the index itself.
+  return {scrambled_fraction(index, scramble_seed(seeds, false)),
+          scrambled_fraction(sobol_dim1_reversed(index), scramble_seed(seeds, true))};
+}
+
+// One dimension alone: the same value as its half of sample_pair.
+inline float sample_dimension_reversed(uint64_t pixel_index, uint32_t sample_index,
+                                       uint32_t reversed_index, uint32_t dimension) {
+  const uint32_t pair = dimension >> 1;
+  const bool second = (dimension & 1u) != 0;
+  const uint64_t seeds = pair_seeds(pixel_index, pair);
+  const uint32_t index = pair_sample_index(sample_index, reversed_index, pair, seeds);
+  return scrambled_fraction(second ? sobol_dim1_reversed(index) : index,
+                            scramble_seed(seeds, second));
 }
 
 // Dimension `dimension` of sample `sample_index` of pixel `pixel_index`, in [0, 1): a pure
 // function of the three, so any thread, tile or pass computes the same value.
 inline float sample_dimension(uint64_t pixel_index, uint32_t sample_index, uint32_t dimension) {
-  const uint32_t pair = dimension / 2;
-  const uint32_t index =
-      pair == 0 ? sample_index
-                : shuffled_sample_index(sample_index, mix64(pixel_scramble_seed(pixel_index, pair) ^
-                                                            0x2545f4914f6cdd1dULL));
-  const uint32_t x = (dimension & 1u) ? sobol_dim1(index) : sobol_dim0(index);
-  return fraction_to_float(owen_scramble24(x, pixel_scramble_seed(pixel_index, dimension)));
+  return sample_dimension_reversed(pixel_index, sample_index, reverse_bits32(sample_index),
+                                   dimension);
+}
+
+// Sample `sample_index` of pixel `pixel_index`: a point of the pixel's own Owen-scrambled
+// Sobol (0,2)-sequence, dimensions 0 and 1.
+inline PixelSample2D sobol_owen_pixel_sample(uint64_t pixel_index, uint32_t sample_index) {
+  return sample_pair(pixel_index, sample_index, 0, 0);
 }
 
 // One sample of one pixel, handing out its dimensions in order: what an integrator draws
@@ -135,23 +180,30 @@ class PixelSampler {
 
   PixelSampler(uint64_t pixel_index, uint32_t sample_index,
                uint32_t first_dimension = kFirstIntegratorDimension)
-      : pixel_(pixel_index), sample_(sample_index), dimension_(first_dimension) {}
+      : pixel_(pixel_index),
+        sample_(sample_index),
+        reversed_sample_(reverse_bits32(sample_index)),
+        dimension_(first_dimension) {}
 
-  float get1d() { return sample_dimension(pixel_, sample_, dimension_++); }
+  float get1d() { return dimension_value(dimension_++); }
   // Two dimensions of one pair when the next dimension starts a pair (stratified together);
   // otherwise the odd one is used alone and the pair after it is taken.
   PixelSample2D get2d() {
     if (dimension_ & 1u) ++dimension_;
-    const float x = sample_dimension(pixel_, sample_, dimension_);
-    const float y = sample_dimension(pixel_, sample_, dimension_ + 1);
+    const PixelSample2D p = sample_pair(pixel_, sample_, reversed_sample_, dimension_ >> 1);
     dimension_ += 2;
-    return {x, y};
+    return p;
   }
   uint32_t dimension() const { return dimension_; }
 
  private:
+  float dimension_value(uint32_t dimension) const {
+    return sample_dimension_reversed(pixel_, sample_, reversed_sample_, dimension);
+  }
+
   uint64_t pixel_;
   uint32_t sample_;
+  uint32_t reversed_sample_;
   uint32_t dimension_;
 };
 

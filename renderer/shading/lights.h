@@ -56,6 +56,8 @@ class LightSource {
   const Imath::V3f& position() const { return position_; }
   const Imath::V3f& direction() const { return direction_; }  // unit, the way light travels
   const Imath::V3f& intensity() const { return intensity_; }  // W/sr, or W/m^2 directional
+  float range() const { return range_; }                      // m; 0 = unlimited
+  float cos_outer() const { return cos_outer_; }              // spot: the cone's edge
 
  private:
   LightType type_ = LightType::point;
