@@ -207,9 +207,12 @@ echo "ok: $same of ${#expected[@]} outputs bit-identical to the plain batch"
 # requeues its task, and the task's second run resumes the job from the checkpoint: the same
 # pixels as one uninterrupted render.
 mkdir -p "$W/requeue"
+# Long enough (several seconds on one core) that checkpoints every second are written before it
+# ends, now that a process starts in milliseconds.
+LONG_SPP=1024
 cat >"$W/requeue.json" <<EOF
 {"version": 1, "jobs": [{"name": "long", "scene": "$SRC/scenes/spheres.gltf", "res": "160x90",
-  "spp": 128, "output": "$W/requeue/long.exr"}]}
+  "spp": $LONG_SPP, "output": "$W/requeue/long.exr"}]}
 EOF
 PRISM="$PRISM" JOBS="$W/requeue.json" sbatch --parsable --array=0-0 --cpus-per-task=1 --chdir="$W" \
   --output="$W/requeue-%A_%a.out" --time=10 "$SBATCH_SCRIPT" --checkpoint-interval 1 >"$W/requeue.id" 2>&1 ||
@@ -237,10 +240,10 @@ grep -q "^prism-batch: checkpoint saved; requeueing ${job}_0$" <<<"$log" || fail
 grep -q "restart 1$" <<<"$log" || fail "the task did not run a second time"
 resumed=$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["jobs"][0]["resumed_samples"])' \
   "$W/requeue/batch-report.json" 2>/dev/null || echo 0)
-((resumed > 0 && resumed < 128)) || fail "the requeued task did not resume from the checkpoint (resumed_samples $resumed)"
-echo "requeue: the second run resumed at $resumed of 128 spp"
+((resumed > 0 && resumed < LONG_SPP)) || fail "the requeued task did not resume from the checkpoint (resumed_samples $resumed)"
+echo "requeue: the second run resumed at $resumed of $LONG_SPP spp"
 if [[ -e $W/requeue/long.exr ]]; then
-  "$PRISM" render "$SRC/scenes/spheres.gltf" -o "$W/long-plain.exr" --res 160x90 --spp 128 --quiet ||
+  "$PRISM" render "$SRC/scenes/spheres.gltf" -o "$W/long-plain.exr" --res 160x90 --spp "$LONG_SPP" --quiet ||
     fail "uninterrupted render of the requeue job"
   max=$("$PRISM" diff "$W/requeue/long.exr" "$W/long-plain.exr" --metric max) || max="failed"
   if [[ $max == 0 ]] && cmp -s <(dump "$W/requeue/long.exr") <(dump "$W/long-plain.exr"); then
