@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <cstring>
 
-#include <OpenImageIO/strutil.h>
 
 #include "simulation/atomic_write.h"
 #include "simulation/flock.h"
@@ -71,9 +70,19 @@ struct GeometryBuffer {
   }
 
   std::string data_uri() const {
-    return "data:application/octet-stream;base64," +
-           OIIO::Strutil::base64_encode(
-               OIIO::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    // RFC 4648 base64, three bytes to four characters, '=' padding the last group.
+    static constexpr char kDigits[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out = "data:application/octet-stream;base64,";
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+      const size_t n = std::min<size_t>(3, bytes.size() - i);
+      uint32_t group = uint32_t(uint8_t(bytes[i])) << 16;
+      if (n > 1) group |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+      if (n > 2) group |= uint32_t(uint8_t(bytes[i + 2]));
+      for (size_t k = 0; k < 4; ++k)
+        out += k <= n ? kDigits[(group >> (18 - 6 * k)) & 63] : '=';
+    }
+    return out;
   }
 
  private:

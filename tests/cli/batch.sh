@@ -265,12 +265,13 @@ others=$(ls -A i | grep -v -e '\.exr$' -e '^jobs.json$' -e '^batch-report.json$'
 
 # ---- A long job: SIGTERM saves its checkpoint (exit 143, no image); the re-run resumes
 # and writes the uninterrupted image; the same after a SIGKILL once a checkpoint exists.
+# Several seconds on one thread, so that checkpoints every second exist before it ends.
 mkdir c
 cat >c/jobs.json <<EOF
 {"version": 1, "jobs": [
-  {"name": "long", "scene": "../spheres.gltf", "output": "long.exr", "res": "160x90", "spp": 128}]}
+  {"name": "long", "scene": "../spheres.gltf", "output": "long.exr", "res": "160x90", "spp": 1024}]}
 EOF
-"$PRISM" render spheres.gltf -o whole.exr --res 160x90 --spp 128 --threads 2 --quiet ||
+"$PRISM" render spheres.gltf -o whole.exr --res 160x90 --spp 1024 --threads 2 --quiet ||
   fail "uninterrupted long render"
 LONG=(c/jobs.json --threads 1 --checkpoint-interval 1 --quiet)
 # resume WHAT: the re-run resumes, finishes and matches the uninterrupted render.

@@ -7,7 +7,8 @@
 source "$(dirname "$0")/lib/common.bash" "$@"
 SCENE="$SRC/scenes/spheres.gltf"
 # A few seconds on one thread, so that signals arrive mid-render.
-FILM=(--res 160x90 --spp 128 --threads 1)
+SPP=512
+FILM=(--res 160x90 --spp "$SPP" --threads 1)
 OUT="$TMP/out.exr"
 CKPT="$OUT.checkpoint"
 RUN=(render "$SCENE" -o "$OUT" "${FILM[@]}" --checkpoint-interval 1)
@@ -47,11 +48,11 @@ interrupt() {
 # resume WHAT: re-runs the command, which must resume, finish and match the whole render.
 resume() {
   "$PRISM" "${RUN[@]}" >"$TMP/stdout" 2>"$TMP/stderr" || fail "$1: the re-run failed: $(cat "$TMP/stderr")"
-  grep -qE "^prism: resuming .*out.exr from its checkpoint: [0-9]+ of 128 samples per pixel done$" \
+  grep -qE "^prism: resuming .*out.exr from its checkpoint: [0-9]+ of $SPP samples per pixel done$" \
     "$TMP/stderr" || fail "$1: the re-run did not say it resumed: $(cat "$TMP/stderr")"
-  grep -qE "^resumed +from .*out.exr.checkpoint at [0-9]+ of 128 spp" "$TMP/stdout" ||
+  grep -qE "^resumed +from .*out.exr.checkpoint at [0-9]+ of $SPP spp" "$TMP/stdout" ||
     fail "$1: the summary does not say it resumed: $(cat "$TMP/stdout")"
-  grep -q "^rays .*camera 1,843,200," "$TMP/stdout" ||
+  grep -q "^rays .*camera 7,372,800," "$TMP/stdout" ||
     fail "$1: the rays of the whole image are not counted: $(grep ^rays "$TMP/stdout")"
   [[ -e $CKPT ]] && fail "$1: the checkpoint is left after the image was written"
   iinfo -v "$OUT" | grep -q 'prism:resumedSamples: "' || fail "$1: the EXR does not record the resume"
@@ -60,14 +61,14 @@ resume() {
 }
 
 # The uninterrupted render, on two threads and without checkpoints.
-"$PRISM" render "$SCENE" -o "$TMP/whole.exr" --res 160x90 --spp 128 --threads 2 --quiet ||
+"$PRISM" render "$SCENE" -o "$TMP/whole.exr" --res 160x90 --spp "$SPP" --threads 2 --quiet ||
   fail "uninterrupted render"
 
 interrupt TERM
 [[ $code -eq 143 ]] || fail "SIGTERM: exit code $code, expected 143: $(cat "$TMP/stderr")"
 [[ -e $OUT ]] && fail "SIGTERM: wrote $OUT"
 [[ -e $CKPT ]] || fail "SIGTERM: no checkpoint"
-grep -qE "^prism: stopped by SIGTERM after [0-9]+ of 128 samples per pixel; saved .*out.exr.checkpoint" \
+grep -qE "^prism: stopped by SIGTERM after [0-9]+ of $SPP samples per pixel; saved .*out.exr.checkpoint" \
   "$TMP/stderr" || fail "SIGTERM: no stop message: $(cat "$TMP/stderr")"
 grep -qF -- "prism: to resume, run: $PRISM render $SCENE -o $OUT --res 160x90" "$TMP/stderr" ||
   fail "SIGTERM: no resume command: $(cat "$TMP/stderr")"
