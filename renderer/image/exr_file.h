@@ -34,7 +34,7 @@ constexpr std::span<const EnumName<ExrCompression>> enum_names(ExrCompression) {
 }
 
 // Measured on this machine (docs/benchmarks.md, "EXR writing").
-inline constexpr ExrCompression kDefaultExrCompression = ExrCompression::zip;
+inline constexpr ExrCompression kDefaultExrCompression = ExrCompression::piz;
 inline constexpr int kDefaultZipLevel = 4;
 
 // What an EXR's header carries besides the pixels.
