@@ -42,6 +42,9 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin
   # tests/cli/slurm.sh runs docs/examples/prism-batch.sbatch on a single-node Slurm cluster
   slurm-wlm munge
+  # the Python module (python/): pybind11 over the job API, NumPy arrays, pytest in CI, a
+  # virtual environment to check `pip install .`, matplotlib for docs/python.md's example
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-venv python3-matplotlib
   "$@"
 )
 

@@ -73,6 +73,8 @@ struct SessionOptions {
 
 // "640x480" -> 640, 480 (each 1 to kMaxImageSide); false for anything else.
 inline constexpr int kMaxImageSide = 32768;
+// Samples per pixel a job may ask for (--spp, --min-spp).
+inline constexpr int kMaxSamplesPerPixel = 1 << 16;
 bool parse_resolution(const std::string& text, int* width, int* height);
 
 struct RenderJob {
@@ -137,7 +139,7 @@ struct RenderOutput {
   // Samples per pixel the render continued from (JobCallbacks::resume), 0 when it started
   // at the beginning; its EXR records them as prism:resumedSamples.
   int resumed_samples = 0;
-  RenderMetadata metadata;             // what its EXR records
+  RenderMetadata metadata;  // what its EXR records
   // With SessionOptions::distribute_frames: which rank this is and what the split cost. On
   // rank 0, `image` is the whole frame and `result` the frame's (rays summed over ranks,
   // seconds rank 0's until its image was whole); on the others, only their own tiles.

@@ -164,6 +164,31 @@ int Session::find_camera(const std::string& wanted) const {
       "camera", wanted + ": " + scene_.source_path + " has no such camera (it has " + names + ")");
 }
 
+namespace {
+
+// The film's sampling fields, which a command line's parser checks before the job exists
+// but a job built in code (Python) does not.
+void check_sampling(const RenderSettings& film) {
+  const auto whole = [](const char* field, int v) {
+    if (v < 1 || v > kMaxSamplesPerPixel)
+      throw RequestError(field, std::to_string(v) + ": expected a whole number from 1 to " +
+                                    std::to_string(kMaxSamplesPerPixel));
+  };
+  whole("spp", film.spp);
+  whole("min-spp", film.min_spp);
+  if (!std::isfinite(film.target_error) || film.target_error < 0.0f)
+    throw RequestError("target-error", format_number(film.target_error) +
+                                           ": expected a finite number > 0 (or 0: off)");
+  if (!std::isfinite(film.time_limit_seconds) || film.time_limit_seconds < 0.0)
+    throw RequestError("time-limit", format_number(film.time_limit_seconds) +
+                                         ": expected a finite number of seconds > 0 (or 0: none)");
+  // Rounded up to whole camera-ray packets by the renderer; past 4096 a tile is the image.
+  if (film.tile_size < 1 || film.tile_size > 4096)
+    throw RequestError("tile-size", std::to_string(film.tile_size) + ": expected 1 to 4096");
+}
+
+}  // namespace
+
 Session::Plan Session::plan(const RenderJob& job) const {
   Plan p;
   p.integrator = find_integrator(job.integrator);
@@ -181,6 +206,7 @@ Session::Plan Session::plan(const RenderJob& job) const {
                                               (takes.empty() ? "none" : takes) + ")"
                                         : e.what());
   }
+  check_sampling(job.film);
   if (ranks() > 1) {
     // Adaptive rounds and per-pass errors need every rank's pixels between passes; one
     // frame over MPI gathers once, at the end.

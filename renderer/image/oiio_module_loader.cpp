@@ -16,11 +16,28 @@ namespace fs = std::filesystem;
 
 constexpr const char* kModuleFile = "libprism_oiio.so";
 
-fs::path module_path() {
+// The folder of the binary this code is linked into: the prism executable, or the Python
+// extension module inside its package (not the Python interpreter, /proc/self/exe there).
+fs::path binary_folder() {
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<const void*>(&binary_folder), &info) && info.dli_fname) {
+    std::error_code ec;
+    const fs::path binary = fs::canonical(info.dli_fname, ec);
+    if (!ec) return binary.parent_path();
+  }
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return fs::path("..") / "lib" / "prism" / kModuleFile;
-  return exe.parent_path().parent_path() / "lib" / "prism" / kModuleFile;
+  return ec ? fs::path(".") : exe.parent_path();
+}
+
+// ../lib/prism beside an executable (the build tree and an installation); beside the binary
+// itself in a Python package.
+fs::path module_path() {
+  const fs::path folder = binary_folder();
+  const fs::path beside = folder / kModuleFile;
+  std::error_code ec;
+  if (fs::exists(beside, ec)) return beside;
+  return folder.parent_path() / "lib" / "prism" / kModuleFile;
 }
 
 // The build this binary was made by: the module must have been made by the same one.
