@@ -207,6 +207,14 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
       report.reference_notes.push_back(
           name + ": analytic spheres, " + std::to_string(o_.reference_spp) + " spp, rendered in " +
           format_error(result.seconds) + " s and cached as " + cache_path);
+      const CacheSweep sweep = bound_reference_cache(
+          cache_dir, static_cast<uint64_t>(o_.cache_limit_gib * double(uint64_t{1} << 30)),
+          cache_path);
+      if (sweep.removed > 0)
+        report.reference_notes.push_back("cache over --cache-limit " +
+                                         format_error(o_.cache_limit_gib) + " GiB: removed the " +
+                                         std::to_string(sweep.removed) + " least recently used (" +
+                                         with_commas(sweep.removed_bytes) + " bytes)");
     }
     row.seconds = result.seconds;
     row.rays = result.rays;
@@ -413,6 +421,26 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
       ->check(CLI::Range(1, 1 << 16))
       ->excludes(reference)
       ->capture_default_str();
+  cmd->add_option("--cache-limit", o->cache_limit_gib,
+                  "GiB the reference cache may hold; the least recently used references go first")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  // Runs as soon as it is parsed, so it needs no scene or report directory.
+  cmd->add_flag_callback(
+         "--clear-cache",
+         [] {
+           const int code = run_reporting_errors([] {
+             const std::string dir = reference_cache_dir();
+             const CacheSweep sweep = clear_reference_cache(dir);
+             std::printf("removed %d cached references (%s bytes) from %s\n", sweep.removed,
+                         with_commas(sweep.removed_bytes).c_str(), dir.c_str());
+             return 0;
+           });
+           if (code != 0) throw CLI::RuntimeError(code);
+           throw CLI::Success();
+         },
+         "Remove every cached reference and exit")
+      ->trigger_on_parse();
   cmd->add_option("--plot-metric", o->plot_metric, "Error on the plot's y axis: rmse | relmse")
       ->check(CLI::IsMember({"rmse", "relmse"}))
       ->capture_default_str();

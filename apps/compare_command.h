@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/command_line.h"
+#include "apps/reference_cache.h"
 #include "renderer/integrator.h"
 
 namespace prism {
@@ -24,6 +25,7 @@ struct CompareOptions {
   int min_spp = RenderSettings{}.min_spp;
   std::string reference_path;  // empty: render (or find in the cache) one per integrator
   int reference_spp = 256;
+  double cache_limit_gib = kDefaultCacheLimitGib;  // the reference cache's bound
   std::string report_dir;
   std::string plot_metric = "relmse";
 };

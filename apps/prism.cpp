@@ -35,6 +35,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::Success&) {
+    return 0;  // a flag that did its work as it was parsed (compare --clear-cache)
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // the same, having printed its error
   } catch (const CLI::ParseError& e) {
     // Usage errors exit with 2, as most command-line tools do.
     std::fprintf(stderr, "prism: error: %s (see prism %s--help)\n", e.what(),

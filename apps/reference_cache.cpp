@@ -1,5 +1,6 @@
 #include "apps/reference_cache.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <vector>
 
 #include "renderer/image/exr_file.h"
 #include "renderer/image/image_metrics.h"
@@ -144,10 +146,63 @@ std::optional<RecordedRender> find_cached_reference(const std::string& dir,
   if (read_exr_string(path, std::string("prism:") + kKeyAttribute) != key.settings.dump())
     return std::nullopt;
   try {
-    return read_recorded_render(path);
+    RecordedRender found = read_recorded_render(path);
+    // A hit makes it the most recently used (bound_reference_cache evicts by this time).
+    std::error_code ec;
+    fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+    return found;
   } catch (const std::exception&) {
     return std::nullopt;
   }
+}
+
+namespace {
+
+bool is_cache_entry(const fs::directory_entry& entry) {
+  const std::string name = entry.path().filename().string();
+  if (!entry.is_regular_file() || name.size() != 32 + 4 || !name.ends_with(".exr")) return false;
+  for (size_t i = 0; i < 32; ++i)
+    if (!std::isxdigit(static_cast<unsigned char>(name[i]))) return false;
+  return true;
+}
+
+}  // namespace
+
+CacheSweep bound_reference_cache(const std::string& dir, uint64_t max_bytes,
+                                 const std::string& keep) {
+  struct Entry {
+    fs::path path;
+    fs::file_time_type time;
+    uint64_t bytes;
+  };
+  std::vector<Entry> entries;
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    if (!is_cache_entry(entry)) continue;
+    std::error_code size_ec, time_ec;
+    const uint64_t bytes = entry.file_size(size_ec);
+    const fs::file_time_type time = entry.last_write_time(time_ec);
+    if (!size_ec && !time_ec) entries.push_back({entry.path(), time, bytes});
+  }
+  // Newest first; the oldest go while the total is over the bound.
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.time != b.time ? a.time > b.time : a.path < b.path;
+  });
+  CacheSweep sweep;
+  uint64_t total = 0;
+  for (const Entry& e : entries) total += e.bytes;
+  for (auto it = entries.rbegin(); it != entries.rend(); ++it) {
+    const bool kept_anyway = !keep.empty() && fs::equivalent(it->path, keep, ec);
+    if (total > max_bytes && !kept_anyway && fs::remove(it->path, ec)) {
+      total -= it->bytes;
+      ++sweep.removed;
+      sweep.removed_bytes += it->bytes;
+    } else {
+      ++sweep.kept;
+      sweep.kept_bytes += it->bytes;
+    }
+  }
+  return sweep;
 }
 
 }  // namespace prism

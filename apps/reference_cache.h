@@ -55,4 +55,25 @@ std::optional<RecordedRender> find_cached_reference(const std::string& dir,
 std::string cached_reference_path(const std::string& dir, const ReferenceKey& key);
 std::pair<std::string, std::string> reference_metadata_entry(const ReferenceKey& key);
 
+// What a pass over the cache removed and left.
+struct CacheSweep {
+  int removed = 0;
+  uint64_t removed_bytes = 0;
+  int kept = 0;
+  uint64_t kept_bytes = 0;
+};
+
+// The cache is bounded (a reference of a large frame is tens of MiB and every new setting
+// adds one): removes the least recently used references (by modification time, which a
+// cache hit renews) until those left hold at most `max_bytes`, never `keep` (the one just
+// written). Only files named as the cache names them (32 hex digits + ".exr") are touched.
+CacheSweep bound_reference_cache(const std::string& dir, uint64_t max_bytes,
+                                 const std::string& keep = {});
+// Removes every cached reference (`prism compare --clear-cache`).
+inline CacheSweep clear_reference_cache(const std::string& dir) {
+  return bound_reference_cache(dir, 0);
+}
+// The bound used when --cache-limit is not given.
+inline constexpr double kDefaultCacheLimitGib = 2.0;
+
 }  // namespace prism
