@@ -18,8 +18,22 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
       ->capture_default_str();
   cmd->add_option("--working-space", o->working_space, enum_choices<WorkingSpace>(" | "))
       ->capture_default_str();
-  cmd->add_option("--background", o->background, "Radiance of rays that leave the scene")
+  cmd->add_option("--background", o->background,
+                  "Uniform environment: radiance of rays that leave the scene, which also lights "
+                  "it (docs/lights.md)")
       ->capture_default_str();
+  cmd->add_option("--environment", o->environment.path,
+                  "Equirectangular environment map (.exr or .hdr) that lights the scene and is "
+                  "seen where rays leave it (docs/lights.md)");
+  cmd->add_option("--environment-rotation", o->environment.rotation_degrees,
+                  "Turn the environment by DEGREES about +Y (counter-clockwise from above)")
+      ->capture_default_str();
+  cmd->add_option("--environment-intensity", o->environment.intensity,
+                  "Scale the environment map's (or --background's) radiance")
+      ->capture_default_str();
+  cmd->add_flag("--hide-environment", o->environment.hidden,
+                "Camera rays that leave the scene see black (alpha 0); the environment still "
+                "lights the scene and shows in reflections");
   cmd->add_option("--brdf", o->brdf,
                   "Glossy lobe: gltf (glTF's GGX, Appendix B) | lecture (the lecture's Phong "
                   "(R.V)^n, docs/materials.md)")
@@ -103,6 +117,11 @@ RenderJob base_job(const SceneOptions& o) {
     throw UsageError("--background: must be a finite radiance >= 0");
   job.camera = o.camera;
   job.background = o.background;
+  if (!std::isfinite(o.environment.intensity) || o.environment.intensity < 0.0f)
+    throw UsageError("--environment-intensity: must be a finite number >= 0");
+  if (!std::isfinite(o.environment.rotation_degrees))
+    throw UsageError("--environment-rotation: must be a finite angle in degrees");
+  job.environment = o.environment;
   job.integrator_parameters = o.integrator_parameters;
   return job;
 }

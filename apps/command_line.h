@@ -36,6 +36,7 @@ struct SceneOptions {
   std::string working_space = "linear-rec709";
   std::string brdf = "gltf";
   float background = 0.0f;
+  EnvironmentRequest environment;     // --environment and its --environment-* options
   bool allow_external_paths = false;  // buffers and images from outside the scene's folder
   double memory_limit_gib = 8.0;      // SessionOptions::memory_budget_bytes, in GiB
   // Every integrator parameter given on the command line, by its name in the registry.

@@ -88,6 +88,7 @@ ReferenceKey reference_key(const std::string& scene_path, const SceneDescription
         {"znear", camera.znear}}},
       {"workingSpace", to_string(job.working_space)},
       {"background", job.background},
+      {"environment", environment_settings(job.environment)},
       {"brdf", to_string(job.brdf)},
       {"spheres", to_string(job.spheres)},
   };

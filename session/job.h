@@ -75,6 +75,17 @@ struct SessionOptions {
 inline constexpr int kMaxImageSide = 32768;
 bool parse_resolution(const std::string& text, int* width, int* height);
 
+// An environment map for a job (docs/lights.md): an equirectangular (latitude-longitude)
+// image, OpenEXR or Radiance HDR, in linear Rec.709, read by the session.
+struct EnvironmentRequest {
+  std::string path;               // empty: no map
+  float rotation_degrees = 0.0f;  // about +Y, counter-clockwise seen from above
+  float intensity = 1.0f;         // scales the map or the uniform background
+  // Camera rays that leave the scene see black (with alpha 0, as every miss has) while the
+  // environment still lights the scene and shows in reflections.
+  bool hidden = false;
+};
+
 struct RenderJob {
   std::string integrator = "whitted";       // a name in integrators/registry.h
   ParameterSettings integrator_parameters;  // any subset of its parameter table
@@ -85,7 +96,11 @@ struct RenderJob {
   // Samples and adaptive sampling; its width and height are settled by the session.
   RenderSettings film;
   WorkingSpace working_space = WorkingSpace::linear_rec709;
-  float background = 0.0f;  // radiance of rays that leave the scene (grey)
+  // Light from beyond the scene: the map environment.path when set, else a uniform grey of
+  // radiance `background` (0 is none: a file without lights then gets the default sky,
+  // scene_passes/scene_defaults.h). It lights the scene and is seen by rays that leave it.
+  float background = 0.0f;
+  EnvironmentRequest environment;
   // The glossy lobe: glTF's GGX, or the lecture's Phong (renderer/shading/bsdf.h).
   BrdfModel brdf = BrdfModel::gltf;
   // How the BVH is built; renders with the same choices share one build.
@@ -137,7 +152,7 @@ struct RenderOutput {
   // Samples per pixel the render continued from (JobCallbacks::resume), 0 when it started
   // at the beginning; its EXR records them as prism:resumedSamples.
   int resumed_samples = 0;
-  RenderMetadata metadata;             // what its EXR records
+  RenderMetadata metadata;  // what its EXR records
   // With SessionOptions::distribute_frames: which rank this is and what the split cost. On
   // rank 0, `image` is the whole frame and `result` the frame's (rays summed over ranks,
   // seconds rank 0's until its image was whole); on the others, only their own tiles.
