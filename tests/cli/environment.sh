@@ -6,6 +6,7 @@
 source "$(dirname "$0")/lib/common.bash" "$@"
 
 SCENE="$SRC/scenes/spheres.gltf"
+BOX=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
 cd "$TMP" || exit 1
 
 # Any non-negative EXR is a map: a render of the shipped scene makes one.
@@ -14,9 +15,9 @@ cd "$TMP" || exit 1
 "$PRISM" render "$SCENE" -o big.exr --res 512x256 --spp 1 --background 0.5 -q ||
   fail "could not render a big map"
 
-"$PRISM" render "$SCENE" -o lit.exr --res 32x24 --spp 1 --environment map.exr \
+"$PRISM" render "$BOX" -o lit.exr --res 32x24 --spp 1 --environment map.exr \
   --environment-rotation 45 --environment-intensity 2 -q 2>err || fail "map render: $(cat err)"
-"$PRISM" render "$SCENE" -o hidden.exr --res 32x24 --spp 1 --environment map.exr \
+"$PRISM" render "$BOX" -o hidden.exr --res 32x24 --spp 1 --environment map.exr \
   --hide-environment -q 2>err || fail "hidden render: $(cat err)"
 # The top-left corner sees the sky: lit by the map where seen, black and transparent hidden.
 corner() { oiiotool "$1" --cut 1x1+0+0 --printstats | awk '/Stats Min/ {print $3, $4, $5, $6}'; }
@@ -33,7 +34,7 @@ expect 2 "missing.exr: no such file" -- render "$SCENE" -o a.exr --environment m
 expect 2 "notes.hdr: not an environment map" -- render "$SCENE" -o a.exr --environment notes.hdr
 expect 2 "folder.exr: not a regular file" -- render "$SCENE" -o a.exr --environment folder.exr
 expect 2 "big.exr: .*larger than Prism reads here" -- render "$SCENE" -o a.exr \
-  --environment big.exr --memory-limit 0.001
+  --environment big.exr --memory-limit 0.001 --res 16x12
 head -c 3000 big.exr >truncated.exr
 expect 2 "truncated.exr" -- render "$SCENE" -o a.exr --environment truncated.exr
 expect 2 "--environment-intensity" -- render "$SCENE" -o a.exr --environment map.exr \
