@@ -12,8 +12,9 @@
 // uniform radiance that would deliver the environment's irradiance about the normal
 // (Environment::irradiance), so an environment lights these integrators as a uniform
 // ambient of its own brightness there would; like the lecture's ambient term it ignores
-// occlusion. So a white furnace (a uniform environment of 1) renders 1, never more, with
-// every integrator.
+// occlusion. The `environment-ambient` parameter weighs it (0: the environment is only seen
+// by rays that leave the scene). So a white furnace (a uniform environment of 1) renders 1, never
+// more, with every integrator.
 #pragma once
 
 #include <algorithm>
@@ -32,8 +33,9 @@ namespace prism {
 struct AmbientLight {
   Imath::V3f radiance{0.0f};
   AlbedoScope scope = AlbedoScope::all_lobes;
-  // Adds the environment's irradiance about the normal (false for a term already counted).
-  bool with_environment = true;
+  // How much of the environment's irradiance about the normal, E(N) / pi, joins `radiance`
+  // (the integrators' environment-ambient parameter; 0 for a term already counted).
+  float environment = 1.0f;
 };
 
 // Which of the scene's lights a call shades: [first, last), clamped to the lights there are.
@@ -59,8 +61,8 @@ Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& am
   const V3f n = bsdf.normal_towards(to_viewer);
   V3f radiance(0.0f);
   V3f incident = ambient.radiance;
-  if (ambient.with_environment && !context.scene.environment().black())
-    incident += context.scene.environment().irradiance(n) * kInvPi;
+  if (ambient.environment != 0.0f && !context.scene.environment().black())
+    incident += context.scene.environment().irradiance(n) * (ambient.environment * kInvPi);
   if (incident.x != 0.0f || incident.y != 0.0f || incident.z != 0.0f)
     radiance = hadamard(incident, bsdf.albedo(to_viewer, n, hit.back_face, ambient.scope)) *
                surface.ambient_occlusion;

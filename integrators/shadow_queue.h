@@ -86,7 +86,7 @@ void shade_packet_direct(const RenderContext& context, const AmbientLight& ambie
   }
   // The first chunk's call also forms the ambient term, where each sum starts.
   const size_t lights = context.scene.lights().size();
-  const AmbientLight none{Imath::V3f(0.0f), ambient.scope, /*with_environment=*/false};
+  const AmbientLight none{Imath::V3f(0.0f), ambient.scope, /*environment=*/0.0f};
   for (size_t first = 0; first == 0 || first < lights; first += ShadowQueue::kLightsPerChunk) {
     const LightRange chunk{first, first + ShadowQueue::kLightsPerChunk};
     for (int i = 0; i < p.count; ++i) {
