@@ -96,10 +96,11 @@ struct RenderJob {
   // Samples and adaptive sampling; its width and height are settled by the session.
   RenderSettings film;
   WorkingSpace working_space = WorkingSpace::linear_rec709;
-  // Light from beyond the scene: the map environment.path when set, else a uniform grey of
-  // radiance `background` (0 is none: a file without lights then gets the default sky,
-  // scene_passes/scene_defaults.h). It lights the scene and is seen by rays that leave it.
-  float background = 0.0f;
+  // Light from beyond the scene: the map environment.path when set, else a uniform
+  // environment of radiance `background` (RGB in the working space; black is none: a file
+  // without lights then gets the default sky, scene_passes/scene_defaults.h). It lights the
+  // scene and is seen by rays that leave it.
+  Imath::V3f background{0.0f, 0.0f, 0.0f};
   EnvironmentRequest environment;
   // The glossy lobe: glTF's GGX, or the lecture's Phong (renderer/shading/bsdf.h).
   BrdfModel brdf = BrdfModel::gltf;

@@ -86,7 +86,8 @@ std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
   line("time-limit", number(job.film.time_limit_seconds));
   line("min-spp", std::to_string(job.film.min_spp));
   line("working-space", to_string(job.working_space));
-  line("background", number(job.background));
+  line("background",
+       number(job.background.x) + "," + number(job.background.y) + "," + number(job.background.z));
   line("environment", environment_settings(job.environment));
   line("brdf", to_string(job.brdf));
   line("spheres", to_string(job.spheres));

@@ -289,9 +289,10 @@ const Environment& Session::environment(const RenderJob& job) {
                        format_number(e.intensity) + ": must be a finite number >= 0");
   if (!std::isfinite(e.rotation_degrees))
     throw RequestError("environment-rotation", "must be a finite angle in degrees");
-  if (!std::isfinite(job.background) || job.background < 0.0f)
-    throw RequestError("background",
-                       format_number(job.background) + ": must be a finite radiance >= 0");
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(job.background[k]) || job.background[k] < 0.0f)
+      throw RequestError("background",
+                         format_number(job.background[k]) + ": must be a finite radiance >= 0");
   Environment made;
   if (!e.path.empty()) {
     // What the map costs while it is made: read as RGBA floats, kept as RGB with a
@@ -324,8 +325,8 @@ const Environment& Session::environment(const RenderJob& job) {
       throw RequestError("environment", e.path + ": " + error.what());
     }
     made.set_hidden_from_camera(e.hidden);
-  } else if (job.background > 0.0f) {
-    made = Environment(Imath::V3f(job.background * e.intensity));
+  } else if (job.background.x > 0.0f || job.background.y > 0.0f || job.background.z > 0.0f) {
+    made = Environment(job.background * e.intensity);
     made.set_hidden_from_camera(e.hidden);
   } else if (scene_.default_sky) {
     // The default sky lights a file that has no light of its own, and is never its backdrop.

@@ -145,7 +145,7 @@ class Session {
   BuiltScene built_;
   // The environment kept, with the job's choices it was made for.
   struct MadeEnvironment {
-    std::tuple<std::string, float, float, bool, float, WorkingSpace> key;
+    std::tuple<std::string, float, float, bool, Imath::V3f, WorkingSpace> key;
     Environment environment;
     bool made = false;
   };

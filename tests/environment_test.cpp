@@ -488,7 +488,7 @@ Image render_spheres(const std::string& integrator, const RenderJob& base) {
 TEST(EnvironmentAmbient, UniformEnvironmentIsTheAmbientTerm) {
   for (const char* integrator : {"phong", "shadow", "whitted"}) {
     RenderJob environment;
-    environment.background = 0.4f;
+    environment.background = V3f(0.4f);
     environment.environment.hidden = true;
     RenderJob ambient;
     ambient.integrator_parameters["ambient"] = 0.4;

@@ -39,6 +39,15 @@ head -c 3000 big.exr >truncated.exr
 expect 2 "truncated.exr" -- render "$SCENE" -o a.exr --environment truncated.exr
 expect 2 "--environment-intensity" -- render "$SCENE" -o a.exr --environment map.exr \
   --environment-intensity -1
+# A uniform colour: --background takes L or R,G,B.
+"$PRISM" render "$BOX" -o colour.exr --res 16x12 --spp 1 --background 0.1,0.2,0.3 -q 2>err ||
+  fail "--background R,G,B: $(cat err)"
+read -r r g b a <<<"$(corner colour.exr)"
+awk "BEGIN {exit !($r == 0.1 && $g == 0.2 && $b == 0.3 && $a == 0)}" &&
+  echo "ok: a uniform colour backdrop" || fail "colour corner $r $g $b $a"
+for bad in 1,2 0.5x -1 nan 1,2,3,4 ""; do
+  expect 2 "--background" -- render "$SCENE" -o a.exr --background "$bad"
+done
 [[ -e a.exr ]] && fail "a refused render left a.exr behind"
 
 # Batch: the key is the option's name, its path relative to the job file, and the map's
