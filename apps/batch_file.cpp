@@ -24,8 +24,8 @@ const std::map<std::string, std::string> kBatchLevel = {
     {"quiet", "give --quiet to prism batch"},
     {"verbose", "it is not a job's setting"}};
 // Keys whose values are paths, resolved against the job file's folder.
-const std::set<std::string> kPathKeys = {"scene", "output", "preview", "sample-count-image",
-                                         "reference"};
+const std::set<std::string> kPathKeys = {"scene",     "output",     "preview", "sample-count-image",
+                                         "reference", "environment"};
 // Keys that may be lists, expanding into one render per value, in this order.
 const char* const kMatrixKeys[] = {"camera", "integrator", "spp"};
 

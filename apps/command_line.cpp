@@ -18,8 +18,22 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
       ->capture_default_str();
   cmd->add_option("--working-space", o->working_space, enum_choices<WorkingSpace>(" | "))
       ->capture_default_str();
-  cmd->add_option("--background", o->background, "Radiance of rays that leave the scene")
+  cmd->add_option("--background", o->background,
+                  "Uniform environment L or R,G,B: radiance of rays that leave the scene, which "
+                  "also lights it (docs/lights.md)")
       ->capture_default_str();
+  cmd->add_option("--environment", o->environment.path,
+                  "Equirectangular environment map (.exr or .hdr) that lights the scene and is "
+                  "seen where rays leave it (docs/lights.md)");
+  cmd->add_option("--environment-rotation", o->environment.rotation_degrees,
+                  "Turn the environment by DEGREES about +Y (counter-clockwise from above)")
+      ->capture_default_str();
+  cmd->add_option("--environment-intensity", o->environment.intensity,
+                  "Scale the environment map's (or --background's) radiance")
+      ->capture_default_str();
+  cmd->add_flag("--hide-environment", o->environment.hidden,
+                "Camera rays that leave the scene see black (alpha 0); the environment still "
+                "lights the scene and shows in reflections");
   cmd->add_option("--brdf", o->brdf,
                   "Glossy lobe: gltf (glTF's GGX, Appendix B) | lecture (the lecture's Phong "
                   "(R.V)^n, docs/materials.md)")
@@ -92,6 +106,24 @@ SessionOptions session_options(const SceneOptions& o) {
   return options;
 }
 
+bool parse_background(const std::string& text, Imath::V3f* radiance) {
+  std::vector<float> v;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t end = std::min(text.find(',', start), text.size());
+    const std::string piece = text.substr(start, end - start);
+    char* stop = nullptr;
+    const float c = std::strtof(piece.c_str(), &stop);
+    if (piece.empty() || *stop != '\0' || !std::isfinite(c) || c < 0.0f) return false;
+    v.push_back(c);
+    start = end + 1;
+  }
+  if (v.size() == 1) v.assign(3, v[0]);
+  if (v.size() != 3) return false;
+  *radiance = Imath::V3f(v[0], v[1], v[2]);
+  return true;
+}
+
 RenderJob base_job(const SceneOptions& o) {
   RenderJob job;
   job.working_space = parse_choice<WorkingSpace>(o.working_space, "--working-space");
@@ -99,10 +131,15 @@ RenderJob base_job(const SceneOptions& o) {
   if (!o.resolution.empty() && !parse_resolution(o.resolution, &job.width, &job.height))
     throw UsageError("--res " + o.resolution + ": expected WIDTHxHEIGHT, each 1 to " +
                      std::to_string(kMaxImageSide));
-  if (!std::isfinite(o.background) || o.background < 0.0f)
-    throw UsageError("--background: must be a finite radiance >= 0");
+  if (!parse_background(o.background, &job.background))
+    throw UsageError("--background " + o.background +
+                     ": expected a radiance L or R,G,B, each finite and >= 0");
   job.camera = o.camera;
-  job.background = o.background;
+  if (!std::isfinite(o.environment.intensity) || o.environment.intensity < 0.0f)
+    throw UsageError("--environment-intensity: must be a finite number >= 0");
+  if (!std::isfinite(o.environment.rotation_degrees))
+    throw UsageError("--environment-rotation: must be a finite angle in degrees");
+  job.environment = o.environment;
   job.integrator_parameters = o.integrator_parameters;
   return job;
 }

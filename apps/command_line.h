@@ -35,7 +35,8 @@ struct SceneOptions {
   int threads = 0;
   std::string working_space = "linear-rec709";
   std::string brdf = "gltf";
-  float background = 0.0f;
+  std::string background = "0";       // L (grey) or R,G,B
+  EnvironmentRequest environment;     // --environment and its --environment-* options
   bool allow_external_paths = false;  // buffers and images from outside the scene's folder
   double memory_limit_gib = 8.0;      // SessionOptions::memory_budget_bytes, in GiB
   // Every integrator parameter given on the command line, by its name in the registry.
@@ -79,6 +80,8 @@ SessionOptions session_options(const SceneOptions& options);
 // A job with the scene options' camera, resolution, working space and background; the
 // caller sets integrator, samples and geometry. Throws UsageError naming the option.
 RenderJob base_job(const SceneOptions& options);
+// --background's text, "L" or "R,G,B", each finite and >= 0; false for anything else.
+bool parse_background(const std::string& text, Imath::V3f* radiance);
 
 // `text` as a value of enum E, or a UsageError "OPTION TEXT: expected a, b or c".
 template <NamedEnum E>

@@ -89,7 +89,8 @@ ReferenceKey reference_key(const std::string& scene_path, const SceneDescription
         {"ymag", camera.ymag},
         {"znear", camera.znear}}},
       {"workingSpace", to_string(job.working_space)},
-      {"background", job.background},
+      {"background", {job.background.x, job.background.y, job.background.z}},
+      {"environment", environment_settings(job.environment)},
       {"brdf", to_string(job.brdf)},
       {"spheres", to_string(job.spheres)},
   };

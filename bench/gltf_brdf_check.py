@@ -7,7 +7,8 @@
    0.3 / 0.5 / 0.7 and a dielectric at 0.5, with `shadow --ambient 0`: the worst relative
    difference from glTF's BRDF (specification Appendix B, evaluated here in double) and the
    ratio of the rendered highlight peak to Appendix B's.
-2. A white furnace (`--ambient 1 --background 1`, no lights): one sphere per material, each
+2. A white furnace (`--background 1`, a uniform environment that every integrator takes as
+   its ambient term; no lights): one sphere per material, each
    integrator; the largest value rendered (never above 1 for an energy-conserving model).
 
 Pixels are read back with `oiiotool --dumpdata`, so the script needs no Python image module.
@@ -175,7 +176,8 @@ def furnace_check(prism, out_dir):
                     "extensions": {"KHR_materials_transmission": {"transmissionFactor": transmission},
                                    "KHR_materials_specular": {"specularFactor": specular}}}
         # A UV-sphere mesh, rendered as the analytic sphere Prism detects in it; and a light of
-        # intensity 0, so that no default light is added: the furnace's only light is ambient.
+        # intensity 0, so that no default light is added: the furnace's only light is the
+        # uniform environment.
         nodes = [{"camera": 0, "translation": [0, 0, 5]}, {"mesh": 0},
                  {"extensions": {"KHR_lights_punctual": {"light": 0}}, "translation": [0, 5, 0]}]
         write_gltf(path, [material], [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1},
@@ -188,7 +190,7 @@ def furnace_check(prism, out_dir):
         line = f"furnace {name:17s}"
         for integrator in ("phong", "shadow", "whitted"):
             exr = path.replace(".gltf", f"_{integrator}.exr")
-            run(prism, [path, "-o", exr, "--integrator", integrator, "--ambient", "1",
+            run(prism, [path, "-o", exr, "--integrator", integrator,
                         "--background", "1", "--spp", "1", "--res", "64x64", "--detect-spheres"])
             highest = max(max(v[:3]) for v in read_pixels(exr).values())
             line += f"  {integrator} max {highest:.5f}"

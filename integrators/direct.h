@@ -42,11 +42,22 @@ inline constexpr ParameterInfo kAmbientParameter{
     3.4e38,
     "Ambient radiance I_a (the lecture's ambient term), scaled by each surface's albedo"};
 
+// The weight of the environment's irradiance in the ambient term (integrators/local_shading.h).
+inline constexpr ParameterInfo kEnvironmentAmbientParameter{
+    "environment-ambient",
+    ParameterType::real,
+    1.0,
+    0.0,
+    1.0,
+    "Share of the environment's irradiance E(N)/pi in the ambient term (0: only rays that "
+    "leave the scene see the environment)"};
+
 template <bool Shadows>
 class DirectLightIntegrator final : public Integrator {
  public:
   explicit DirectLightIntegrator(const ParameterValues& parameters)
-      : ambient_{Imath::V3f(parameters.real("ambient"))} {}
+      : ambient_{Imath::V3f(parameters.real("ambient")), AlbedoScope::all_lobes,
+                 static_cast<float>(parameters.real("environment-ambient"))} {}
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {

@@ -6,9 +6,15 @@
 // (LightSource::sample), f the BSDF's non-delta lobes (Bsdf::eval: glTF's GGX layer over
 // Lambert, or the lecture's Phong lobe), so the sum is reflected radiance. k_a is the
 // surface's albedo towards the viewer (Bsdf::albedo), what it reflects of a uniform ambient
-// radiance I_a (the integrator's `ambient` parameter) through the lobes the integrator does
-// not trace itself: every lobe for phong and shadow, the non-delta ones for whitted until
-// its depth limit. So a white furnace renders 1, never more, with every integrator.
+// radiance I_a through the lobes the integrator does not trace itself: every lobe for phong
+// and shadow, the non-delta ones for whitted until its depth limit. I_a is the integrator's
+// `ambient` parameter plus the scene's environment as seen from the surface: E(N) / pi, the
+// uniform radiance that would deliver the environment's irradiance about the normal
+// (Environment::irradiance), so an environment lights these integrators as a uniform
+// ambient of its own brightness there would; like the lecture's ambient term it ignores
+// occlusion. The `environment-ambient` parameter weighs it (0: the environment is only seen
+// by rays that leave the scene). So a white furnace (a uniform environment of 1) renders 1, never
+// more, with every integrator.
 #pragma once
 
 #include <algorithm>
@@ -27,6 +33,9 @@ namespace prism {
 struct AmbientLight {
   Imath::V3f radiance{0.0f};
   AlbedoScope scope = AlbedoScope::all_lobes;
+  // How much of the environment's irradiance about the normal, E(N) / pi, joins `radiance`
+  // (the integrators' environment-ambient parameter; 0 for a term already counted).
+  float environment = 1.0f;
 };
 
 // Which of the scene's lights a call shades: [first, last), clamped to the lights there are.
@@ -51,8 +60,11 @@ Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& am
   const Bsdf& bsdf = surface.bsdf;
   const V3f n = bsdf.normal_towards(to_viewer);
   V3f radiance(0.0f);
-  if (ambient.radiance.x != 0.0f || ambient.radiance.y != 0.0f || ambient.radiance.z != 0.0f)
-    radiance = hadamard(ambient.radiance, bsdf.albedo(to_viewer, n, hit.back_face, ambient.scope)) *
+  V3f incident = ambient.radiance;
+  if (ambient.environment != 0.0f && !context.scene.environment().black())
+    incident += context.scene.environment().irradiance(n) * (ambient.environment * kInvPi);
+  if (incident.x != 0.0f || incident.y != 0.0f || incident.z != 0.0f)
+    radiance = hadamard(incident, bsdf.albedo(to_viewer, n, hit.back_face, ambient.scope)) *
                surface.ambient_occlusion;
   const auto& lights = context.scene.lights();
   const size_t last = std::min(range.last, lights.size());

@@ -2,19 +2,21 @@
 // BRDF, glTF's by default) at the nearest hit of each view ray, plus emission. No shadows,
 // no secondary rays.
 //
-// | parameter | type   | default | meaning                                        |
-// | --------- | ------ | ------- | ---------------------------------------------- |
-// | ambient   | number | 0       | uniform radiance I_a, times the surface albedo |
+// | parameter           | type   | default | meaning                                        |
+// | ------------------- | ------ | ------- | ---------------------------------------------- |
+// | ambient             | number | 0       | uniform radiance I_a, times the surface albedo |
+// | environment-ambient | number | 1       | share of the environment's E(N)/pi in I_a      |
 //
 // The shading itself is integrators/direct.h and integrators/local_shading.h; rays that
-// leave the scene see the scene's environment (--background).
+// leave the scene see the scene's environment (--background, --environment), which also
+// lights the ambient term.
 #include "integrators/direct.h"
 #include "integrators/registry.h"
 
 namespace prism {
 namespace {
 
-constexpr ParameterInfo kParameters[] = {kAmbientParameter};
+constexpr ParameterInfo kParameters[] = {kAmbientParameter, kEnvironmentAmbientParameter};
 
 }  // namespace
 

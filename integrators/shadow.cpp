@@ -4,16 +4,17 @@
 // offset_ray_origin) and ends at the light. In a scene where nothing can block a shadow ray
 // (SceneFeatures::shadows = false) it casts none and runs phong's code (shading_flags.h).
 //
-// | parameter | type   | default | meaning                                        |
-// | --------- | ------ | ------- | ---------------------------------------------- |
-// | ambient   | number | 0       | uniform radiance I_a, times the surface albedo |
+// | parameter           | type   | default | meaning                                        |
+// | ------------------- | ------ | ------- | ---------------------------------------------- |
+// | ambient             | number | 0       | uniform radiance I_a, times the surface albedo |
+// | environment-ambient | number | 1       | share of the environment's E(N)/pi in I_a      |
 #include "integrators/direct.h"
 #include "integrators/registry.h"
 
 namespace prism {
 namespace {
 
-constexpr ParameterInfo kParameters[] = {kAmbientParameter};
+constexpr ParameterInfo kParameters[] = {kAmbientParameter, kEnvironmentAmbientParameter};
 
 }  // namespace
 

@@ -78,7 +78,7 @@ void shade_packet_direct(const RenderContext& context, const AmbientLight& ambie
   static_assert(F.shadows);
   for (int i = 0; i < p.count; ++i) {
     if (!p.found[i]) {
-      results[i] = SampleResult{context.scene.environment().radiance(p.rays[i].direction), false};
+      results[i] = SampleResult{context.scene.environment().background(p.rays[i].direction), false};
       continue;
     }
     surfaces[i] = evaluate(context.scene.material(p.hits[i].material), p.hits[i]);
@@ -86,7 +86,7 @@ void shade_packet_direct(const RenderContext& context, const AmbientLight& ambie
   }
   // The first chunk's call also forms the ambient term, where each sum starts.
   const size_t lights = context.scene.lights().size();
-  const AmbientLight none{Imath::V3f(0.0f), ambient.scope};
+  const AmbientLight none{Imath::V3f(0.0f), ambient.scope, /*environment=*/0.0f};
   for (size_t first = 0; first == 0 || first < lights; first += ShadowQueue::kLightsPerChunk) {
     const LightRange chunk{first, first + ShadowQueue::kLightsPerChunk};
     for (int i = 0; i < p.count; ++i) {

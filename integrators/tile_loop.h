@@ -121,7 +121,8 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
 }
 
 // The common case: each camera ray's nearest hit is shaded by `shade(ray, hit, counters)`,
-// one at a time, and a ray that hits nothing sees the background.
+// one at a time, and a ray that hits nothing sees the environment's background (black where
+// the environment is hidden from the camera).
 template <typename ShadeFn>
 void render_tile_shading_hits(const RenderContext& context, const TileRect& tile, Image* image,
                               RayCounters* counters, ShadeFn&& shade) {
@@ -130,9 +131,9 @@ void render_tile_shading_hits(const RenderContext& context, const TileRect& tile
       [&](const CameraPacket& p, SampleResult* results, RayCounters* c) {
         for (int i = 0; i < p.count; ++i) {
           results[i] =
-              p.found[i]
-                  ? SampleResult{shade(p.rays[i], p.hits[i], c), true}
-                  : SampleResult{context.scene.environment().radiance(p.rays[i].direction), false};
+              p.found[i] ? SampleResult{shade(p.rays[i], p.hits[i], c), true}
+                         : SampleResult{context.scene.environment().background(p.rays[i].direction),
+                                        false};
         }
       });
 }

@@ -16,13 +16,15 @@
 // transmissive it runs the shadow integrator's own code; in an opaque scene it leaves out
 // Fresnel and refraction; without occluders it casts no shadow rays.
 //
-// | parameter | type    | default | meaning                                          |
-// | --------- | ------- | ------- | ------------------------------------------------ |
-// | max-depth | integer | 5       | longest chain of reflection and refraction rays  |
-// | ambient   | number  | 0       | ambient radiance I_a, times the surface albedo   |
+// | parameter           | type    | default | meaning                                         |
+// | ------------------- | ------- | ------- | ----------------------------------------------- |
+// | max-depth           | integer | 5       | longest chain of reflection and refraction rays |
+// | ambient             | number  | 0       | ambient radiance I_a, times the surface albedo  |
+// | environment-ambient | number  | 1       | share of the environment's E(N)/pi in I_a       |
 //
-// Rays that leave the scene see the scene's environment (--background). The mirror and
-// dielectric weights are the BSDF's delta lobes (Bsdf::specular_lobes).
+// Rays that leave the scene see the scene's environment (--background, --environment),
+// which also lights the ambient term. The mirror and dielectric weights are the BSDF's delta
+// lobes (Bsdf::specular_lobes).
 #include "integrators/direct.h"
 #include "integrators/registry.h"
 #include "integrators/shadow_queue.h"
@@ -35,14 +37,17 @@ constexpr ParameterInfo kParameters[] = {
     {"max-depth", ParameterType::integer, 5, 0, 64,
      "Longest chain of reflection and refraction rays"},
     kAmbientParameter,
+    kEnvironmentAmbientParameter,
 };
 
 // What one render's tracer needs besides the context: the integrator's parameters.
 struct WhittedParameters {
   explicit WhittedParameters(const ParameterValues& values)
       : max_depth(values.integer("max-depth")),
-        traced{Imath::V3f(values.real("ambient")), AlbedoScope::without_delta_lobes},
-        untraced{Imath::V3f(values.real("ambient")), AlbedoScope::all_lobes} {}
+        traced{Imath::V3f(values.real("ambient")), AlbedoScope::without_delta_lobes,
+               static_cast<float>(values.real("environment-ambient"))},
+        untraced{Imath::V3f(values.real("ambient")), AlbedoScope::all_lobes,
+                 static_cast<float>(values.real("environment-ambient"))} {}
   int max_depth;
   // At a hit whose mirror and refraction rays are traced, the ambient light reaches the
   // other lobes only; at the depth limit, where they are not, every lobe.

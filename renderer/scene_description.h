@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -180,6 +181,14 @@ struct CameraDescription {
   double znear = 1e-3;
 };
 
+// Light from beyond the scene for a file that brings no light of its own
+// (scene_passes/scene_defaults.h): a grey sky whose radiance runs linearly in the height of
+// the direction (its +Y component), from `nadir` straight down to `zenith` straight up.
+struct SkyDescription {
+  float zenith = 0.0f;
+  float nadir = 0.0f;
+};
+
 struct SceneDescription {
   std::string source_path;
   // Every file the scene was read from: source_path first, then its buffers and images. What
@@ -192,6 +201,11 @@ struct SceneDescription {
   std::vector<TextureImage> textures;
   std::vector<Light> lights;
   std::vector<CameraDescription> cameras;
+  // Set by scene_passes/scene_defaults.h for a file without lights or emissive surfaces:
+  // lights[0] is then the default key light, placed for the camera a render uses, and
+  // default_sky lights a render whose job names no environment (never seen by the camera).
+  bool default_lighting = false;
+  std::optional<SkyDescription> default_sky;
   std::vector<std::string> warnings;  // for the user: skipped primitives, defaults added, ...
 };
 

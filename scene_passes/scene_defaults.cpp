@@ -1,7 +1,9 @@
 #include "scene_passes/scene_defaults.h"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <string>
 
 namespace prism {
 namespace {
@@ -37,6 +39,37 @@ Imath::Box3d world_bounds(const SceneDescription& scene) {
   return box;
 }
 
+Light default_key_light(const CameraDescription& camera) {
+  const M44d& m = camera.camera_to_world;
+  const V3d right = V3d(m[0][0], m[0][1], m[0][2]).normalized();
+  const V3d up = V3d(m[1][0], m[1][1], m[1][2]).normalized();
+  const V3d back = V3d(m[2][0], m[2][1], m[2][2]).normalized();
+  Light light;
+  light.name = "default key light";
+  light.type = LightType::directional;
+  light.intensity = std::numbers::pi_v<float>;
+  // From behind the camera, above and to its right: close enough to the view that the
+  // faces the camera sees mostly face the light too, far enough that shading shows shape.
+  light.direction = -(back + 0.5 * up + 0.35 * right).normalized();
+  return light;
+}
+
+bool has_emissive_geometry(const SceneDescription& scene) {
+  const auto emits = [&](int material) {
+    if (material < 0 || material >= static_cast<int>(scene.materials.size())) return false;
+    const C3f& e = scene.materials[static_cast<size_t>(material)].emissive;
+    return e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
+  };
+  for (const MeshInstance& inst : scene.instances) {
+    if (inst.mesh < 0 || inst.mesh >= static_cast<int>(scene.meshes.size())) continue;
+    for (const Primitive& p : scene.meshes[static_cast<size_t>(inst.mesh)].primitives)
+      if (!p.indices.empty() && emits(p.material)) return true;
+  }
+  for (const Sphere& s : scene.spheres)
+    if (emits(s.material)) return true;
+  return false;
+}
+
 void add_scene_defaults(SceneDescription* scene) {
   if (scene->cameras.empty()) {
     Imath::Box3d box = world_bounds(*scene);
@@ -55,20 +88,19 @@ void add_scene_defaults(SceneDescription* scene) {
     scene->warnings.push_back(
         "the scene has no camera: using a default perspective camera that frames the whole scene");
   }
-  if (scene->lights.empty()) {
-    const M44d& m = scene->cameras.front().camera_to_world;
-    const V3d right = V3d(m[0][0], m[0][1], m[0][2]).normalized();
-    const V3d up = V3d(m[1][0], m[1][1], m[1][2]).normalized();
-    const V3d forward = -V3d(m[2][0], m[2][1], m[2][2]).normalized();
-    Light light;
-    light.name = "default key light";
-    light.type = LightType::directional;
-    light.intensity = std::numbers::pi_v<float>;
-    light.direction = (forward - 0.6 * up + 0.4 * right).normalized();
-    scene->lights.push_back(light);
+  if (scene->lights.empty() && !has_emissive_geometry(*scene)) {
+    scene->lights.push_back(default_key_light(scene->cameras.front()));
+    scene->default_lighting = true;
+    scene->default_sky = kDefaultSky;
+    char sky[160];
+    std::snprintf(sky, sizeof sky,
+                  "a grey sky of radiance %g at the zenith to %g at the nadir, not seen by the "
+                  "camera, unless the render names an environment or background",
+                  double(kDefaultSky.zenith), double(kDefaultSky.nadir));
     scene->warnings.push_back(
-        "the scene has no light: using a default directional light of pi lux from behind the "
-        "camera's upper left (docs/lights.md)");
+        "the scene has no light: added a directional key light of pi lux from over the "
+        "camera's right shoulder and " +
+        std::string(sky) + " (docs/lights.md)");
   }
 }
 

@@ -77,6 +77,17 @@ inline constexpr int kMaxImageSide = 32768;
 inline constexpr int kMaxSamplesPerPixel = 1 << 16;
 bool parse_resolution(const std::string& text, int* width, int* height);
 
+// An environment map for a job (docs/lights.md): an equirectangular (latitude-longitude)
+// image, OpenEXR or Radiance HDR, in linear Rec.709, read by the session.
+struct EnvironmentRequest {
+  std::string path;               // empty: no map
+  float rotation_degrees = 0.0f;  // about +Y, counter-clockwise seen from above
+  float intensity = 1.0f;         // scales the map or the uniform background
+  // Camera rays that leave the scene see black (with alpha 0, as every miss has) while the
+  // environment still lights the scene and shows in reflections.
+  bool hidden = false;
+};
+
 struct RenderJob {
   std::string integrator = "whitted";       // a name in integrators/registry.h
   ParameterSettings integrator_parameters;  // any subset of its parameter table
@@ -87,7 +98,12 @@ struct RenderJob {
   // Samples and adaptive sampling; its width and height are settled by the session.
   RenderSettings film;
   WorkingSpace working_space = WorkingSpace::linear_rec709;
-  float background = 0.0f;  // radiance of rays that leave the scene (grey)
+  // Light from beyond the scene: the map environment.path when set, else a uniform
+  // environment of radiance `background` (RGB in the working space; black is none: a file
+  // without lights then gets the default sky, scene_passes/scene_defaults.h). It lights the
+  // scene and is seen by rays that leave it.
+  Imath::V3f background{0.0f, 0.0f, 0.0f};
+  EnvironmentRequest environment;
   // The glossy lobe: glTF's GGX, or the lecture's Phong (renderer/shading/bsdf.h).
   BrdfModel brdf = BrdfModel::gltf;
   // How the BVH is built; renders with the same choices share one build.

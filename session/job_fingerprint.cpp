@@ -47,6 +47,23 @@ std::string number(double v) {
 
 }  // namespace
 
+std::string environment_settings(const EnvironmentRequest& e) {
+  std::string map = "none";
+  if (!e.path.empty()) {
+    std::error_code error;
+    const std::filesystem::path absolute = std::filesystem::absolute(e.path, error);
+    std::string hash;
+    try {
+      hash = content_hash(e.path);
+    } catch (const std::runtime_error&) {
+      hash = "unreadable";
+    }
+    map = (error ? e.path : absolute.lexically_normal().string()) + " " + hash;
+  }
+  return map + " rotation " + number(e.rotation_degrees) + " intensity " + number(e.intensity) +
+         (e.hidden ? " hidden" : " seen");
+}
+
 std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
                                ExrPixelType pixel_type) {
   std::error_code error;
@@ -69,7 +86,9 @@ std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
   line("time-limit", number(job.film.time_limit_seconds));
   line("min-spp", std::to_string(job.film.min_spp));
   line("working-space", to_string(job.working_space));
-  line("background", number(job.background));
+  line("background",
+       number(job.background.x) + "," + number(job.background.y) + "," + number(job.background.z));
+  line("environment", environment_settings(job.environment));
   line("brdf", to_string(job.brdf));
   line("spheres", to_string(job.spheres));
   line("robust", job.robust ? "1" : "0");

@@ -24,6 +24,11 @@ struct InputFile {
 std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
                                ExrPixelType pixel_type);
 
+// The environment a job asks for as one line of canonical text: the map's absolute path and
+// the hash of its contents (or "unreadable": the render then reports why), its rotation,
+// intensity and whether it is hidden. A map's contents are part of what a render depends on.
+std::string environment_settings(const EnvironmentRequest& environment);
+
 // XXH3-128 of `bytes`, as 32 lowercase hex digits.
 std::string hash_text(const std::string& bytes);
 

@@ -9,7 +9,9 @@
 
 #include "distributed/frame_split.h"
 #include "renderer/camera.h"
+#include "renderer/image/exr_file.h"
 #include "renderer/image/image_metrics.h"
+#include "renderer/image/oiio_module.h"
 #include "scene_io/gltf_loader.h"
 #include "scene_passes/scene_defaults.h"
 
@@ -67,6 +69,26 @@ Image read_reference(const std::string& path) {
   } catch (const std::exception& e) {
     throw RequestError("reference", e.what());
   }
+}
+
+// An environment map, refused unless it is a regular OpenEXR or Radiance HDR file of at most
+// `max_pixels`: any other format would reach a decoder Prism does not vouch for with
+// untrusted input, and a device or a FIFO would never end.
+Image read_environment_map(const std::string& path, int64_t max_pixels) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw RequestError("environment", path + ": no such file");
+  if (!S_ISREG(st.st_mode)) throw RequestError("environment", path + ": not a regular file");
+  if (is_exr_file(path)) return read_exr_file(path, max_pixels);
+  char magic[2] = {0, 0};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  const bool hdr = f && std::fread(magic, 1, 2, f) == 2 && magic[0] == '#' && magic[1] == '?';
+  if (f) std::fclose(f);
+  if (!hdr)
+    throw RequestError("environment",
+                       path +
+                           ": not an environment map (expected an OpenEXR or Radiance .hdr "
+                           "file)");
+  return oiio_module(path).read_image(path, max_pixels);
 }
 
 }  // namespace
@@ -282,9 +304,71 @@ RenderSettings Session::film_for(const RenderJob& job, int camera_index,
   return film;
 }
 
+const Environment& Session::environment(const RenderJob& job) {
+  add_defaults();
+  const EnvironmentRequest& e = job.environment;
+  auto key = std::make_tuple(e.path, e.rotation_degrees, e.intensity, e.hidden, job.background,
+                             job.working_space);
+  if (environment_.made && environment_.key == key) return environment_.environment;
+  if (!std::isfinite(e.intensity) || e.intensity < 0.0f)
+    throw RequestError("environment-intensity",
+                       format_number(e.intensity) + ": must be a finite number >= 0");
+  if (!std::isfinite(e.rotation_degrees))
+    throw RequestError("environment-rotation", "must be a finite angle in degrees");
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(job.background[k]) || job.background[k] < 0.0f)
+      throw RequestError("background",
+                         format_number(job.background[k]) + ": must be a finite radiance >= 0");
+  Environment made;
+  if (!e.path.empty()) {
+    // What the map costs while it is made: read as RGBA floats, kept as RGB with a
+    // cumulative distribution in double, and the weights it is built from.
+    constexpr int64_t kBytesPerTexel = 16 + 12 + 8 + 8;
+    const int64_t max_pixels = std::min<int64_t>(
+        int64_t{1} << 30, static_cast<int64_t>(options_.memory_budget_bytes) / kBytesPerTexel);
+    Image map;
+    try {
+      map = read_environment_map(e.path, max_pixels);
+    } catch (const RequestError&) {
+      throw;
+    } catch (const std::exception& error) {
+      throw RequestError("environment", error.what());
+    }
+    // Maps are scene-linear Rec.709, as glTF's colours are.
+    if (job.working_space != WorkingSpace::linear_rec709) {
+      const ColourPipeline& pipeline = colour(job.working_space);
+      for (size_t i = 0; i < map.rgba.size(); i += 4) {
+        const C3f c =
+            pipeline.from_linear_rec709(C3f(map.rgba[i], map.rgba[i + 1], map.rgba[i + 2]));
+        map.rgba[i] = c.x;
+        map.rgba[i + 1] = c.y;
+        map.rgba[i + 2] = c.z;
+      }
+    }
+    try {
+      made = Environment(map, e.rotation_degrees * std::numbers::pi_v<float> / 180.0f, e.intensity);
+    } catch (const std::invalid_argument& error) {
+      throw RequestError("environment", e.path + ": " + error.what());
+    }
+    made.set_hidden_from_camera(e.hidden);
+  } else if (job.background.x > 0.0f || job.background.y > 0.0f || job.background.z > 0.0f) {
+    made = Environment(job.background * e.intensity);
+    made.set_hidden_from_camera(e.hidden);
+  } else if (scene_.default_sky) {
+    // The default sky lights a file that has no light of its own, and is never its backdrop.
+    made = gradient_sky(scene_.default_sky->zenith, scene_.default_sky->nadir);
+    made.set_hidden_from_camera(true);
+  }
+  environment_.environment = made;
+  environment_.key = key;
+  environment_.made = true;
+  return environment_.environment;
+}
+
 void Session::check(const RenderJob& job) {
   add_defaults();
   const Plan p = plan(job);
+  environment(job);
   if (!job.reference_path.empty()) {
     const Image reference = read_reference(job.reference_path);
     if (reference.width != p.film.width || reference.height != p.film.height)
@@ -298,13 +382,20 @@ void Session::check(const RenderJob& job) {
 const RenderScene& Session::render_scene(const RenderJob& job, double* build_seconds) {
   // Rebased per scene, or per camera for a scene too large to share one origin
   // (rebasing_origin): jobs from every camera of a small scene share one build.
-  const V3d origin =
-      rebasing_origin(scene_, scene_.cameras[static_cast<size_t>(camera_index(job.camera))]);
+  const int camera = camera_index(job.camera);
+  const V3d origin = rebasing_origin(scene_, scene_.cameras[static_cast<size_t>(camera)]);
+  const Environment& sky = environment(job);
+  // The default key light stands over the shoulder of whichever camera renders.
+  if (scene_.default_lighting)
+    scene_.lights = {default_key_light(scene_.cameras[static_cast<size_t>(camera)])};
   auto key = std::make_tuple(to_string(job.spheres), job.robust, job.build_quality,
-                             job.working_space, job.background,
+                             job.working_space, scene_.default_lighting ? camera : -1,
                              std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
-  if (built_.scene && built_.key == key) return *built_.scene;
+  if (built_.scene && built_.key == key) {
+    built_.scene->set_environment(sky);
+    return *built_.scene;
+  }
   const ColourPipeline& colours = colour(job.working_space);
   const auto start = Clock::now();
   arena_->execute([&] {
@@ -318,8 +409,7 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     // (docs/stress-shading.md, huge coordinates; docs/accuracy.md, far cameras).
     geometry.world_origin = origin;
     if (!device_) device_ = std::make_shared<EmbreeDevice>();
-    built_.scene = std::make_unique<RenderScene>(device_, scene_, geometry, colours,
-                                                 Environment(Imath::V3f(job.background)), job.brdf);
+    built_.scene = std::make_unique<RenderScene>(device_, scene_, geometry, colours, sky, job.brdf);
   });
   built_.key = key;
   if (build_seconds) *build_seconds = seconds_since(start);

@@ -88,6 +88,12 @@ class Session {
   // `build_seconds` receives the time spent building it now (0 when reused).
   const RenderScene& render_scene(const RenderJob& job, double* build_seconds = nullptr);
   const ColourPipeline& colour(WorkingSpace space);
+  // The environment `job` renders with (docs/lights.md): its map, else its uniform
+  // background, else the default sky of a file without lights, else black. Read and made on
+  // first use and kept until a job asks for another; RequestError "environment" for a map
+  // that is missing, not an OpenEXR or Radiance HDR image, too large for the memory budget,
+  // or holding a negative or non-finite texel.
+  const Environment& environment(const RenderJob& job);
   // Bytes the session holds: the scene description (geometry, texels) and the BVH built
   // for it, as Embree reports it. What a cache of sessions weighs against its budget.
   uint64_t memory_bytes() const;
@@ -132,12 +138,18 @@ class Session {
   std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
   // The render scene kept, with the choices it was built for.
   struct BuiltScene {
-    std::tuple<std::string, bool, BuildQuality, WorkingSpace, float, std::array<double, 3>,
-               BrdfModel>
+    std::tuple<std::string, bool, BuildQuality, WorkingSpace, int, std::array<double, 3>, BrdfModel>
         key;
     std::unique_ptr<RenderScene> scene;
   };
   BuiltScene built_;
+  // The environment kept, with the job's choices it was made for.
+  struct MadeEnvironment {
+    std::tuple<std::string, float, float, bool, Imath::V3f, WorkingSpace> key;
+    Environment environment;
+    bool made = false;
+  };
+  MadeEnvironment environment_;
 };
 
 }  // namespace prism

@@ -1,6 +1,6 @@
 // glTF's own BRDF in every integrator, against answers worked out here: a plane under a point
 // light equals specification Appendix B evaluated in double at every pixel, and a white
-// furnace (uniform ambient and background of 1, no lights) never renders above 1 with any
+// furnace (a uniform environment of 1, no lights) never renders above 1 with any
 // material or integrator, and exactly 1 where the material is white and lossless.
 #include <gtest/gtest.h>
 
@@ -96,7 +96,8 @@ TEST(GltfBrdf, PointLitPlaneEqualsAppendixBAtEveryPixel) {
     }
 }
 
-// One sphere of the material in a furnace of radiance 1 (ambient and background), seen
+// One sphere of the material in a furnace of radiance 1 (a uniform environment, which phong
+// and shadow take as their ambient term and whitted as well where it traces no ray), seen
 // whole by an orthographic camera, so that its disc sweeps every viewing angle from head-on
 // at the centre to grazing at the rim.
 struct FurnaceCase {
@@ -139,7 +140,6 @@ TEST(GltfBrdf, WhiteFurnaceNeverExceedsOneWithAnyIntegrator) {
         testing::TestSettings settings;
         settings.width = settings.height = 80;
         settings.spp = 1;
-        settings.ambient = 1.0f;
         settings.background = V3f(1.0f);
         settings.brdf = brdf;
         const testing::Rendered r = testing::render_scene(scene, integrator, settings);

@@ -93,6 +93,7 @@ struct TestSettings : RenderSettings {
   int threads = 0;
   int max_depth = 5;
   float ambient = 0.0f;
+  float environment_ambient = 1.0f;
   V3f background{0.0f, 0.0f, 0.0f};
   BrdfModel brdf = BrdfModel::gltf;
 };
@@ -105,6 +106,8 @@ inline std::unique_ptr<Integrator> make_test_integrator(std::string_view name,
   ParameterSettings given;
   if (takes_parameter(*info, "max-depth")) given["max-depth"] = settings.max_depth;
   if (takes_parameter(*info, "ambient")) given["ambient"] = settings.ambient;
+  if (takes_parameter(*info, "environment-ambient"))
+    given["environment-ambient"] = settings.environment_ambient;
   return configure_integrator(*info, given).integrator;
 }
 

@@ -27,7 +27,6 @@ namespace {
 
 // A render is at most 32768 wide (session.cpp); anything this large is not an image we
 // made or a reference anyone renders against, and reading it would need tens of GiB.
-constexpr int64_t kMaxReadPixels = int64_t(1) << 30;
 
 [[noreturn]] void fail(const std::string& path, std::string reason) {
   std::replace(reason.begin(), reason.end(), '\n', ' ');
@@ -125,7 +124,7 @@ bool is_exr_file(const std::string& path) {
   return Imf::isOpenExrFile(path.c_str());
 }
 
-Image read_exr_file(const std::string& path) {
+Image read_exr_file(const std::string& path, int64_t max_pixels) {
   try {
     Imf::InputFile file(path.c_str());
     const Imf::Header& header = file.header();
@@ -133,9 +132,10 @@ Image read_exr_file(const std::string& path) {
     const int64_t width = int64_t(window.max.x) - window.min.x + 1;
     const int64_t height = int64_t(window.max.y) - window.min.y + 1;
     if (width < 1 || height < 1) fail(path, "has an empty data window");
-    if (width * height > kMaxReadPixels)
+    if (width * height > max_pixels)
       fail(path, "data window of " + std::to_string(width) + " x " + std::to_string(height) +
-                     " pixels is larger than Prism reads (2^30 pixels)");
+                     " pixels is larger than Prism reads here (" + std::to_string(max_pixels) +
+                     " pixels)");
 
     const Imf::ChannelList& channels = header.channels();
     std::vector<std::string> colour_names;

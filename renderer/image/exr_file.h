@@ -78,8 +78,10 @@ void write_exr_file(const std::string& path, const Image& image, const ExrHeader
 bool is_exr_file(const std::string& path);
 
 // The data window of part 0 as RGBA floats: channels R, G, B by name, else the first
-// non-alpha channels (one channel is grey); A, or 1 without it.
-Image read_exr_file(const std::string& path);
+// non-alpha channels (one channel is grey); A, or 1 without it. A data window of more than
+// `max_pixels` is refused before anything is allocated for it.
+inline constexpr int64_t kMaxReadPixels = int64_t{1} << 30;
+Image read_exr_file(const std::string& path, int64_t max_pixels = kMaxReadPixels);
 
 // The header's string, int and float attributes (chromaticities and matrices are not read
 // back), or std::nullopt when the file cannot be read as an EXR. Reads the header only.

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -40,8 +41,10 @@ class OiioModule {
  public:
   virtual ~OiioModule() = default;
   // Any image OpenImageIO reads, as RGBA floats: channels R, G, B by name, else the first
-  // non-alpha ones (one is grey), alpha or 1. Throws std::runtime_error "<path>: <reason>".
-  virtual Image read_image(const std::string& path) const = 0;
+  // non-alpha ones (one is grey), alpha or 1. Throws std::runtime_error "<path>: <reason>",
+  // also for an image of more than `max_pixels`, before its pixels are allocated.
+  virtual Image read_image(const std::string& path, int64_t max_pixels) const = 0;
+  Image read_image(const std::string& path) const { return read_image(path, int64_t{1} << 30); }
   virtual std::unique_ptr<RasterCanvas> make_canvas(int width, int height) const = 0;
 };
 

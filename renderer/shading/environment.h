@@ -2,15 +2,23 @@
 // a path tracer needs of an infinite light (pbrt-v4's base/light.h for infinite lights):
 // radiance in a direction, a sampled direction with its solid-angle density, the density of
 // a given direction (for multiple importance sampling) and the power, for choosing among
-// lights. Today a constant (the command line's --background); an image-based environment
-// implements the same calls, and integrators written against them need not change.
+// lights. Integrators without sampled light read it through irradiance(), the light a
+// surface receives from it, as their ambient term (integrators/local_shading.h).
+//
+// An environment is uniform (the command line's --background) or an equirectangular
+// (latitude-longitude) map, looked up nearest-texel so that radiance(), sample() and pdf()
+// describe one piecewise-constant function exactly. The map's conventions are Blender's world
+// mapping with glTF's +Y up: row 0 looks straight up (+Y) and the last row straight down; the
+// middle column looks along +X, the column a quarter to its right along +Z, a quarter to its
+// left along -Z. Copies share the map.
 #pragma once
 
-#include <algorithm>
-#include <cmath>
-#include <numbers>
+#include <array>
+#include <memory>
 
 #include <Imath/ImathVec.h>
+
+#include "renderer/image/image.h"
 
 namespace prism {
 
@@ -24,38 +32,67 @@ class Environment {
  public:
   Environment() = default;
   // Uniform radiance in every direction, in the working colour space.
-  explicit Environment(const Imath::V3f& radiance) : radiance_(radiance) {}
+  explicit Environment(const Imath::V3f& radiance);
+  // An equirectangular map: the RGB of `map` (alpha is ignored) in the working colour space,
+  // times `intensity`, turned by `rotation_radians` about +Y (right-handed: counter-clockwise
+  // seen from above, so a feature at +Z moves towards +X). Throws std::invalid_argument for
+  // an empty map, a texel that is negative or not finite (naming it), or a scaled texel that
+  // is no longer finite.
+  Environment(const Image& map, float rotation_radians, float intensity);
 
   // Radiance arriving along -direction, i.e. seen looking along `direction` (unit).
-  Imath::V3f radiance(const Imath::V3f& /*direction*/) const { return radiance_; }
+  Imath::V3f radiance(const Imath::V3f& direction) const {
+    return map_ ? map_radiance(direction) : radiance_;
+  }
+  // What a camera ray that leaves the scene sees: radiance(), or black when the environment
+  // is hidden from the camera. Only camera rays ask this; every other ray, and sampling,
+  // sees the environment itself.
+  Imath::V3f background(const Imath::V3f& direction) const {
+    return hidden_ ? Imath::V3f(0.0f) : radiance(direction);
+  }
+  void set_hidden_from_camera(bool hidden) { hidden_ = hidden; }
+  bool hidden_from_camera() const { return hidden_; }
+
   // True when no direction sends any light: integrators may skip asking.
-  bool black() const { return radiance_.x <= 0.0f && radiance_.y <= 0.0f && radiance_.z <= 0.0f; }
+  bool black() const { return black_; }
 
   // A direction drawn from `u` in [0,1)^2 with its density; false when the environment is
-  // black (nothing to sample). A uniform environment samples the sphere uniformly.
-  bool sample(const Imath::V2f& u, EnvironmentSample* out) const {
-    if (black()) return false;
-    const float z = 1.0f - 2.0f * u.x;
-    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-    const float phi = 2.0f * std::numbers::pi_v<float> * u.y;
-    out->wi = Imath::V3f(r * std::cos(phi), r * std::sin(phi), z);
-    out->radiance = radiance_;
-    out->pdf = 1.0f / (4.0f * std::numbers::pi_v<float>);
-    return true;
-  }
+  // black (nothing to sample). A uniform environment samples the sphere uniformly; a map
+  // draws a texel in proportion to its luminance times its solid angle, then a point in it
+  // uniformly in (column, row). The radiance and pdf returned are exactly radiance(wi) and
+  // pdf(wi).
+  bool sample(const Imath::V2f& u, EnvironmentSample* out) const;
   // The density sample() gives direction `wi` (unit).
-  float pdf(const Imath::V3f& /*wi*/) const {
-    return black() ? 0.0f : 1.0f / (4.0f * std::numbers::pi_v<float>);
-  }
+  float pdf(const Imath::V3f& wi) const;
   // Power (W per channel) through a sphere of `scene_radius` around the scene: what the
-  // environment delivers to the scene, for choosing between it and the scene's lights.
-  Imath::V3f power(float scene_radius) const {
-    const float pi = std::numbers::pi_v<float>;
-    return radiance_ * (4.0f * pi * pi * scene_radius * scene_radius);
-  }
+  // environment delivers to the scene, for choosing between it and the scene's lights:
+  // pi r^2 times the integral of the radiance over the sphere.
+  Imath::V3f power(float scene_radius) const;
+
+  // The irradiance a surface facing `normal` (unit) receives from the whole environment,
+  // unoccluded: the integral of radiance(w) max(0, normal . w) over directions. Exact for
+  // a uniform environment (pi L); for a map, its projection on the nine spherical harmonics
+  // of order <= 2 convolved with the clamped cosine (Ramamoorthi and Hanrahan 2001), clamped
+  // at 0. Deterministic: computed once, when the environment is made.
+  Imath::V3f irradiance(const Imath::V3f& normal) const;
+
+  // The map's texel a direction falls in (column, row), for tests; (0, 0) when uniform.
+  std::array<int, 2> texel_of(const Imath::V3f& direction) const;
 
  private:
-  Imath::V3f radiance_{0.0f, 0.0f, 0.0f};
+  struct Map;
+  Imath::V3f map_radiance(const Imath::V3f& direction) const;
+
+  Imath::V3f radiance_{0.0f, 0.0f, 0.0f};  // uniform only
+  std::shared_ptr<const Map> map_;
+  bool black_ = true;
+  bool hidden_ = false;
 };
+
+// A grey sky whose radiance runs linearly in the height y of the direction, from `nadir`
+// (y = -1) to `zenith` (y = 1): a map of one column and 256 rows, each row the mean of that
+// linear radiance over its solid angle, so the sky's power and irradiance are the linear
+// one's to within the rows' discretisation.
+Environment gradient_sky(float zenith, float nadir);
 
 }  // namespace prism

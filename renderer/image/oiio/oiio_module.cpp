@@ -67,15 +67,18 @@ class OiioCanvas final : public RasterCanvas {
 
 class Module final : public OiioModule {
  public:
-  Image read_image(const std::string& path) const override {
+  using OiioModule::read_image;
+  Image read_image(const std::string& path, int64_t max_pixels) const override {
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
     if (!in) fail(path, OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.deep) fail(path, "deep images are not supported");
     if (spec.width < 1 || spec.height < 1 || spec.depth != 1 || spec.nchannels < 1)
       fail(path, "not a 2D image with at least one channel");
-    if (int64_t(spec.width) * spec.height > (int64_t(1) << 30))
-      fail(path, "larger than Prism reads (2^30 pixels)");
+    if (int64_t(spec.width) * spec.height > max_pixels)
+      fail(path, std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                     " pixels is larger than Prism reads here (" + std::to_string(max_pixels) +
+                     " pixels)");
     const size_t nch = static_cast<size_t>(spec.nchannels);
     std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * nch);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
