@@ -39,10 +39,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const DecodedImage& d = decoded.at(0);
     const std::size_t expected =
         std::size_t(d.width) * std::size_t(d.height) * std::size_t(d.channels);
-    if (!d.texels || d.texels->size() != expected) std::abort();
-    float sum = 0.0f;
-    for (float v : *d.texels) sum += v;  // touch every texel under ASan
-    if (!(sum >= 0.0f)) std::abort();    // normalised values are never negative or NaN
+    if (d.codes) {  // 8-bit: every code is a valid value, so touching them is the check
+      if (d.texels || d.codes->size() != expected) std::abort();
+      unsigned long sum = 0;
+      for (uint8_t v : *d.codes) sum += v;  // touch every texel under ASan
+      if (sum > 255ul * expected) std::abort();
+    } else {
+      if (!d.texels || d.texels->size() != expected) std::abort();
+      float sum = 0.0f;
+      for (float v : *d.texels) sum += v;  // touch every texel under ASan
+      if (!(sum >= 0.0f)) std::abort();    // normalised values are never negative or NaN
+    }
   } catch (const prism::LoadError&) {
   }
   return 0;

@@ -17,7 +17,9 @@ uint64_t description_bytes(const SceneDescription& scene) {
       bytes += bytes_of(p.positions) + bytes_of(p.normals) + bytes_of(p.uv0) + bytes_of(p.uv1) +
                bytes_of(p.colours) + bytes_of(p.tangents) + bytes_of(p.indices);
   for (const TextureImage& t : scene.textures)
-    bytes += t.shared_texels ? bytes_of(*t.shared_texels) : bytes_of(t.texels);
+    bytes += t.shared_codes    ? bytes_of(*t.shared_codes)
+             : t.shared_texels ? bytes_of(*t.shared_texels)
+                               : bytes_of(t.texels);
   bytes += bytes_of(scene.meshes) + bytes_of(scene.instances) + bytes_of(scene.spheres) +
            bytes_of(scene.materials) + bytes_of(scene.lights) + bytes_of(scene.cameras);
   return bytes;

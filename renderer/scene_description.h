@@ -53,9 +53,22 @@ struct TextureImage {
   int channels = 0;           // 1..4
   std::vector<float> texels;  // width * height * channels, row 0 at the top (glTF's UV origin)
   // Set instead of `texels` by the loader: one decoded image shared by every texture reading it,
-  // whatever its sampler or encoding. pixels() is whichever holds the values.
+  // whatever its sampler or encoding. An 8-bit image keeps its codes (value v stands for
+  // v * (1.0f / 255.0f)), a quarter of the floats' size; a 16-bit one arrives as floats.
   std::shared_ptr<const std::vector<float>> shared_texels;
-  const std::vector<float>& pixels() const { return shared_texels ? *shared_texels : texels; }
+  std::shared_ptr<const std::vector<uint8_t>> shared_codes;
+  static float code_value(uint8_t code) { return static_cast<float>(code) * (1.0f / 255.0f); }
+  // The number of channel values, and the i-th as a float, whichever storage holds them.
+  size_t value_count() const {
+    return shared_codes    ? shared_codes->size()
+           : shared_texels ? shared_texels->size()
+                           : texels.size();
+  }
+  float value(size_t i) const {
+    return shared_codes    ? code_value((*shared_codes)[i])
+           : shared_texels ? (*shared_texels)[i]
+                           : texels[i];
+  }
   TextureEncoding encoding = TextureEncoding::srgb;
   TextureWrap wrap_s = TextureWrap::repeat;
   TextureWrap wrap_t = TextureWrap::repeat;

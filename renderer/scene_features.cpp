@@ -39,11 +39,11 @@ float smallest_roughness(const SceneDescription& scene, const MaterialDescriptio
   if (t->encoding == TextureEncoding::srgb || t->channels < 1) return 0.0f;
   const size_t count = static_cast<size_t>(t->width) * static_cast<size_t>(t->height);
   const size_t c = static_cast<size_t>(t->channels);
-  if (t->pixels().size() < count * c || count == 0) return 0.0f;
+  if (t->value_count() < count * c || count == 0) return 0.0f;
   // Texture broadcasts grey images, so green is channel 0 below three channels.
   const size_t green = c >= 3 ? 1 : 0;
   float lowest = 1.0f;
-  for (size_t i = 0; i < count; ++i) lowest = std::min(lowest, t->pixels()[i * c + green]);
+  for (size_t i = 0; i < count; ++i) lowest = std::min(lowest, t->value(i * c + green));
   return factor * std::max(lowest, 0.0f);
 }
 

@@ -224,9 +224,10 @@ bool check_image_header(tinygltf::Image* image, const int index, std::string* er
   image->bits = spec.bits;
   image->as_is = true;  // the encoded file, decoded later by decode_images
   image->mimeType = media_type(format);
-  // The decoded texels and the copy of the encoded bytes kept until then.
+  // The decoded texels (8-bit codes as bytes, 16-bit samples as floats) and the copy of the
+  // encoded bytes kept until then.
   charge(std::size_t(spec.width) * std::size_t(spec.height),
-         std::size_t(image->component) * sizeof(float), element);
+         std::size_t(image->component) * (spec.bits == 8 ? 1 : sizeof(float)), element);
   charge(std::size_t(size), 1, element);
   image->image.assign(bytes, bytes + size);
   return true;
@@ -257,19 +258,30 @@ std::vector<DecodedImage> decode_images(const tinygltf::Model& model,
     d.width = image.width;
     d.height = image.height;
     d.channels = image.component;
-    auto texels = std::make_shared<std::vector<float>>(
-        std::size_t(d.width) * std::size_t(d.height) * std::size_t(d.channels));
-    // Integer formats arrive normalised to [0, 1], as glTF defines their values.
-    const std::string why =
-        format == Format::png
-            ? decode_png(image.image.data(), image.image.size(), header, texels->data())
-            : decode_jpeg(image.image.data(), image.image.size(), header, texels->data());
+    const std::size_t values =
+        std::size_t(d.width) * std::size_t(d.height) * std::size_t(d.channels);
+    std::string why;
+    if (header.bits == 8) {
+      auto codes = std::make_shared<std::vector<uint8_t>>(values);
+      why = format == Format::png
+                ? decode_png(image.image.data(), image.image.size(), header, codes->data())
+                : decode_jpeg(image.image.data(), image.image.size(), header, codes->data());
+      d.codes = std::move(codes);
+    } else {
+      // 16-bit samples, normalised as glTF defines integer values (v / 65535, rounded as
+      // v * (1 / 65535)); the samples' own buffer lives only as long as this conversion.
+      std::vector<uint16_t> samples(values);
+      why = decode_png(image.image.data(), image.image.size(), header,
+                       reinterpret_cast<unsigned char*>(samples.data()));
+      auto texels = std::make_shared<std::vector<float>>(values);
+      const float scale = 1.0f / 65535.0f;
+      for (std::size_t k = 0; k < values; ++k) (*texels)[k] = float(samples[k]) * scale;
+      d.texels = std::move(texels);
+    }
     if (!why.empty()) {
       errors[i] = "the image cannot be decoded: " + why;
       d = DecodedImage();
-      return;
     }
-    d.texels = std::move(texels);
   });
   for (std::size_t i = 0; i < count; ++i)
     if (!errors[i].empty()) fail(file, indexed("images", i), errors[i]);

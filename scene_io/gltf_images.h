@@ -32,13 +32,15 @@ bool check_image_header(tinygltf::Image* image, int index, std::string* err, std
                         int req_width, int req_height, const unsigned char* bytes, int size,
                         void* user_data);
 
-// An image's texels normalised to [0, 1] as stored (not linearised), row 0 at the top.
+// An image's texels as stored (not linearised), row 0 at the top: an 8-bit image (every JPEG,
+// most PNGs) as its codes, a 16-bit PNG normalised to [0, 1] as v * (1.0f / 65535.0f).
+// Shared by every texture that reads the image, whatever its sampler or encoding.
 struct DecodedImage {
   int width = 0;
   int height = 0;
-  int channels = 0;  // 1..4
-  // Shared by every texture that reads the image, whatever its sampler or encoding.
-  std::shared_ptr<const std::vector<float>> texels;
+  int channels = 0;                                   // 1..4
+  std::shared_ptr<const std::vector<uint8_t>> codes;  // set for 8-bit images
+  std::shared_ptr<const std::vector<float>> texels;   // set for 16-bit images
 };
 
 // Decodes model.images[i] for every i with wanted[i], in parallel; the others stay empty.

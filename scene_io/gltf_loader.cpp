@@ -486,6 +486,7 @@ class Converter final : public MaterialExtensionReader {
       t.width = d.width;
       t.height = d.height;
       t.channels = d.channels;
+      t.shared_codes = d.codes;
       t.shared_texels = d.texels;
     }
   }

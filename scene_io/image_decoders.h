@@ -20,13 +20,15 @@ struct ImageHeader {
 };
 
 std::string read_png_header(const unsigned char* bytes, std::size_t size, ImageHeader* header);
-// Fills width x height x channels floats, each stored value v as v / (2^bits - 1) rounded as
-// v * (1.0f / (2^bits - 1)), straight (not premultiplied) alpha as glTF defines it.
+// Fills width x height x channels samples of header.bits each, as stored: bytes for 8-bit
+// images, native-order uint16_t for 16-bit ones; straight (not premultiplied) alpha as glTF
+// defines it. The caller says what the codes mean (gltf_images.h).
 std::string decode_png(const unsigned char* bytes, std::size_t size, const ImageHeader& header,
-                       float* texels);
+                       unsigned char* samples);
 
 std::string read_jpeg_header(const unsigned char* bytes, std::size_t size, ImageHeader* header);
+// Fills width x height x channels 8-bit codes.
 std::string decode_jpeg(const unsigned char* bytes, std::size_t size, const ImageHeader& header,
-                        float* texels);
+                        unsigned char* codes);
 
 }  // namespace prism::gltf_detail

@@ -1,7 +1,6 @@
 #include <turbojpeg.h>
 
 #include <memory>
-#include <vector>
 
 #include "scene_io/image_decoders.h"
 
@@ -41,22 +40,17 @@ std::string read_jpeg_header(const unsigned char* bytes, std::size_t size, Image
 }
 
 std::string decode_jpeg(const unsigned char* bytes, std::size_t size, const ImageHeader& header,
-                        float* texels) {
+                        unsigned char* codes) {
   const Decompressor handle(tjInitDecompress());
   if (!handle) return "cannot start the JPEG decoder";
-  const std::size_t count =
-      std::size_t(header.width) * std::size_t(header.height) * std::size_t(header.channels);
-  std::vector<unsigned char> raw(count);
   // Default flags: the accurate integer DCT and smooth chroma upsampling, libjpeg's own
   // defaults. A warning (e.g. data ending early, filled with grey) leaves a whole image,
   // as every JPEG viewer shows it; only errors refuse the file.
   const int pixel_format = header.channels == 1 ? TJPF_GRAY : TJPF_RGB;
-  if (tjDecompress2(handle.get(), bytes, static_cast<unsigned long>(size), raw.data(), header.width,
-                    0, header.height, pixel_format, 0) != 0 &&
+  if (tjDecompress2(handle.get(), bytes, static_cast<unsigned long>(size), codes, header.width, 0,
+                    header.height, pixel_format, 0) != 0 &&
       tjGetErrorCode(handle.get()) != TJERR_WARNING)
     return why(handle.get());
-  const float scale = 1.0f / 255.0f;
-  for (std::size_t i = 0; i < count; ++i) texels[i] = float(raw[i]) * scale;
   return {};
 }
 

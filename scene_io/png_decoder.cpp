@@ -104,7 +104,7 @@ std::string read_png_header(const unsigned char* bytes, std::size_t size, ImageH
 }
 
 std::string decode_png(const unsigned char* bytes, std::size_t size, const ImageHeader& header,
-                       float* texels) {
+                       unsigned char* samples) {
   PngReader reader(bytes, size);
   ImageHeader found;
   if (!reader.ready()) return "cannot start the PNG decoder";
@@ -112,25 +112,12 @@ std::string decode_png(const unsigned char* bytes, std::size_t size, const Image
   if (found.width != header.width || found.height != header.height ||
       found.channels != header.channels || found.bits != header.bits)
     return "the PNG header changed between reads";
-  const std::size_t values = std::size_t(header.width) * std::size_t(header.channels);
-  const std::size_t row_bytes = values * std::size_t(header.bits / 8);
-  std::vector<unsigned char> raw(row_bytes * std::size_t(header.height));
+  // libpng writes the rows straight into the caller's texels: no second copy of the image.
+  const std::size_t row_bytes =
+      std::size_t(header.width) * std::size_t(header.channels) * std::size_t(header.bits / 8);
   std::vector<png_bytep> rows(std::size_t(header.height));
-  for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = raw.data() + y * row_bytes;
+  for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = samples + y * row_bytes;
   if (!read_rows(reader.png(), reader.info(), rows.data())) return reader.why();
-  // Scaled as OpenImageIO scales integers (v * (1 / max)), so textures keep their values.
-  const std::size_t count = values * std::size_t(header.height);
-  if (header.bits == 8) {
-    const float scale = 1.0f / 255.0f;
-    for (std::size_t i = 0; i < count; ++i) texels[i] = float(raw[i]) * scale;
-  } else {
-    const float scale = 1.0f / 65535.0f;
-    for (std::size_t i = 0; i < count; ++i) {
-      uint16_t v;
-      std::memcpy(&v, raw.data() + 2 * i, 2);
-      texels[i] = float(v) * scale;
-    }
-  }
   return {};
 }
 

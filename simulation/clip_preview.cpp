@@ -54,20 +54,24 @@ Frame read_frame(const fs::path& path) {
                                          std::istreambuf_iterator<char>()};
   gltf_detail::ImageHeader header;
   std::string why = gltf_detail::read_png_header(bytes.data(), bytes.size(), &header);
-  std::vector<float> texels;
+  std::vector<uint16_t> samples;  // as wide as a 16-bit image needs; an 8-bit one uses bytes
   if (why.empty()) {
-    texels.resize(size_t(header.width) * size_t(header.height) * size_t(header.channels));
-    why = gltf_detail::decode_png(bytes.data(), bytes.size(), header, texels.data());
+    samples.resize(size_t(header.width) * size_t(header.height) * size_t(header.channels));
+    why = gltf_detail::decode_png(bytes.data(), bytes.size(), header,
+                                  reinterpret_cast<unsigned char*>(samples.data()));
   }
   if (!why.empty()) throw std::runtime_error(path.string() + ": cannot be read: " + why);
   Frame frame{header.width, header.height, {}};
   frame.rgb.resize(size_t(header.width) * size_t(header.height) * 3);
   const size_t channels = size_t(header.channels);
+  const auto* codes = reinterpret_cast<const uint8_t*>(samples.data());
   for (size_t p = 0; p < size_t(header.width) * size_t(header.height); ++p)
     for (size_t c = 0; c < 3; ++c) {
       // Grey (1 or 2 channels) fills all three; alpha is left out.
-      const float v = texels[p * channels + (channels < 3 ? 0 : c)];
-      frame.rgb[p * 3 + c] = static_cast<uint8_t>(std::lround(v * 255.0f));
+      const size_t i = p * channels + (channels < 3 ? 0 : c);
+      frame.rgb[p * 3 + c] =
+          header.bits == 8 ? codes[i]
+                           : static_cast<uint8_t>(std::lround(samples[i] * (255.0 / 65535.0)));
     }
   return frame;
 }

@@ -477,7 +477,7 @@ TEST(GltfHostile, ImageBytesMustAgreeWithTheDeclaredType) {
                            textured_doc({{"bufferView", 1}, {"mimeType", "image/jpeg"}}, jpeg)));
   ASSERT_EQ(s.textures.size(), 1u);
   EXPECT_EQ(s.textures[0].width, 4);
-  EXPECT_EQ(s.textures[0].pixels().size(), 4u * 4u * 3u);
+  EXPECT_EQ(s.textures[0].value_count(), 4u * 4u * 3u);
 }
 
 // The JPEG with its scan (SOS header and entropy-coded data) repeated until it has `scans`.
@@ -791,14 +791,15 @@ TEST(GltfHostile, TexelsAreSharedBetweenSamplersAndEncodings) {
       {"normalTexture", {{"index", 2}}},
       {"occlusionTexture", {{"index", 3}}},
       {"emissiveTexture", {{"index", 1}}}};
-  // 3 MiB of float texels, the PNG's bytes and the buffer: well under 8 MiB, where five
-  // copies (15 MiB) would not fit.
+  // 0.75 MiB of 8-bit texels, the PNG's bytes and the buffer: under 3 MiB, where five
+  // copies (3.75 MiB) would not fit.
   const SceneDescription s =
-      load_gltf(write_json(dir / "asset" / "a.gltf", doc), with_budget(8 * kMiB));
+      load_gltf(write_json(dir / "asset" / "a.gltf", doc), with_budget(3 * kMiB));
   ASSERT_EQ(s.textures.size(), 5u);
   for (const TextureImage& t : s.textures) {
-    EXPECT_EQ(t.shared_texels.get(), s.textures[0].shared_texels.get());
-    EXPECT_EQ(t.pixels().size(), 512u * 512u * 3u);
+    ASSERT_TRUE(t.shared_codes);
+    EXPECT_EQ(t.shared_codes.get(), s.textures[0].shared_codes.get());
+    EXPECT_EQ(t.value_count(), 512u * 512u * 3u);
   }
 }
 

@@ -1,7 +1,8 @@
 // The image codecs that replaced OpenImageIO on the render path (docs/images.md), checked
 // against OpenImageIO itself, which the tests still link as the reference: every glTF PNG
-// and JPEG decodes to the same floats bit for bit, EXRs round-trip every value and header
-// field, and OpenImageIO reads the EXRs and PNGs Prism writes.
+// and JPEG decodes to the same floats bit for bit (8-bit codes normalised as the loader reads
+// them), EXRs round-trip every value and header field, and OpenImageIO reads the EXRs and PNGs
+// Prism writes.
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 #include "renderer/image/image_metrics.h"
 #include "renderer/image/oiio_module.h"
 #include "renderer/image/png_file.h"
+#include "renderer/scene_description.h"
 #include "scene_io/image_decoders.h"
 
 namespace fs = std::filesystem;
@@ -67,11 +69,18 @@ void expect_same_as_oiio(const fs::path& path) {
   ASSERT_EQ(header.width, spec.width);
   ASSERT_EQ(header.height, spec.height);
   ASSERT_EQ(header.channels, spec.nchannels);
-  std::vector<float> texels(expected.size(), -1.0f);
+  // The samples as stored, normalised as the loader reads them: an 8-bit code through
+  // TextureImage::code_value, a 16-bit sample as v * (1 / 65535).
+  std::vector<uint16_t> samples(expected.size(), 0xFFFF);
+  auto* raw = reinterpret_cast<unsigned char*>(samples.data());
   const std::string decoded =
-      png ? gltf_detail::decode_png(bytes.data(), bytes.size(), header, texels.data())
-          : gltf_detail::decode_jpeg(bytes.data(), bytes.size(), header, texels.data());
+      png ? gltf_detail::decode_png(bytes.data(), bytes.size(), header, raw)
+          : gltf_detail::decode_jpeg(bytes.data(), bytes.size(), header, raw);
   ASSERT_EQ(decoded, "");
+  std::vector<float> texels(expected.size());
+  for (size_t i = 0; i < texels.size(); ++i)
+    texels[i] =
+        header.bits == 8 ? TextureImage::code_value(raw[i]) : float(samples[i]) * (1.0f / 65535.0f);
   size_t differing = 0;
   for (size_t i = 0; i < texels.size(); ++i)
     differing += std::memcmp(&texels[i], &expected[i], sizeof(float)) != 0;
@@ -124,7 +133,8 @@ TEST(ImageCodecs, BrokenImagesAreRefusedWithAReason) {
   ASSERT_GT(png.size(), 100u);
   ImageHeader header;
   ASSERT_EQ(gltf_detail::read_png_header(png.data(), png.size(), &header), "");
-  std::vector<float> texels(size_t(header.width) * header.height * header.channels);
+  std::vector<unsigned char> texels(size_t(header.width) * header.height * header.channels *
+                                    size_t(header.bits / 8));
   // Cut short in the image data: the header reads, the pixels do not.
   const std::string cut =
       gltf_detail::decode_png(png.data(), png.size() / 2, header, texels.data());

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -181,6 +183,33 @@ void ColourPipeline::srgb_texture_to_working(float* texels, std::size_t pixel_co
                                 std::to_string(channels));
   }
   apply_rgb(*impl_->srgb_texture_to_working, texels, pixel_count, channels);
+}
+
+std::optional<ColourPipeline::CodeTable> ColourPipeline::srgb_texture_code_table() const {
+  // Each code on every channel at once, then the same codes with the channels shifted
+  // against each other: a transform whose outputs depend on one input channel each gives the
+  // same values both ways, a matrix (or a 3D LUT) does not. The probes are as many pixels as
+  // an image row, so they take the processor's path for whole rows.
+  constexpr int kCodes = 256;
+  constexpr int kShifts[] = {0, 1, 37, 85, 128, 211};
+  std::vector<float> probe(std::size(kShifts) * kCodes * 3);
+  for (std::size_t s = 0; s < std::size(kShifts); ++s)
+    for (int v = 0; v < kCodes; ++v)
+      for (int c = 0; c < 3; ++c)
+        probe[(s * kCodes + v) * 3 + c] =
+            TextureImage::code_value(static_cast<uint8_t>((v + c * kShifts[s]) % kCodes));
+  apply_rgb(*impl_->srgb_texture_to_working, probe.data(), probe.size() / 3, 3);
+  CodeTable table;
+  for (int v = 0; v < kCodes; ++v)
+    for (int c = 0; c < 3; ++c) table[c][v] = probe[v * 3 + c];
+  for (std::size_t s = 1; s < std::size(kShifts); ++s)
+    for (int v = 0; v < kCodes; ++v)
+      for (int c = 0; c < 3; ++c) {
+        const float expected = table[c][(v + c * kShifts[s]) % kCodes];
+        const float got = probe[(s * kCodes + v) * 3 + c];
+        if (std::memcmp(&expected, &got, sizeof got) != 0) return std::nullopt;
+      }
+  return table;
 }
 
 Image ColourPipeline::working_to_display(const Image& image) const {

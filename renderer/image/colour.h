@@ -12,6 +12,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "renderer/enum_names.h"
@@ -49,6 +50,11 @@ class ColourPipeline {
   // Texels of an sRGB-encoded texture (base colour, emissive), in place, to the working
   // space. `channels` is 3 or 4; alpha is left alone.
   void srgb_texture_to_working(float* texels, std::size_t pixel_count, int channels) const;
+  // What srgb_texture_to_working gives for each 8-bit code's value (code * (1.0f / 255.0f)),
+  // per channel, from the same processor bit for bit; empty when the transform mixes
+  // channels (a working space with other primaries), which no per-channel table reproduces.
+  using CodeTable = std::array<std::array<float, 256>, 3>;
+  std::optional<CodeTable> srgb_texture_code_table() const;
   // The image through the display/view transform (sRGB display, Standard view), as
   // display-referred RGBA in [0, 1] ready to quantise for a PNG.
   Image working_to_display(const Image& image) const;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <optional>
 #include <utility>
 
 #include <tbb/parallel_for.h>
@@ -58,66 +60,125 @@ std::vector<BoxTap> box_taps(int from, int to) {
   return taps;
 }
 
+bool same_bits(float a, float b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
 }  // namespace
 
-std::shared_ptr<const std::vector<Texture::Level>> Texture::build_levels(
-    const TextureImage& image, const ColourPipeline& colour) {
-  auto levels = std::make_shared<std::vector<Level>>();
-  Level base;
-  base.width = image.width;
-  base.height = image.height;
-  const size_t count = static_cast<size_t>(base.width) * base.height;
-  std::vector<float> rgb(count * 3);
-  base.texels.resize(count);
+Texture::CodeTables Texture::code_tables(const ColourPipeline& colour) {
+  auto linear = std::make_shared<CodeTable>();
+  for (int v = 0; v < 256; ++v) {
+    const float value = TextureImage::code_value(static_cast<uint8_t>(v));
+    for (auto& channel : linear->colour) channel[static_cast<size_t>(v)] = value;
+    linear->alpha[static_cast<size_t>(v)] = value;
+  }
+  CodeTables tables;
+  tables.linear = linear;
+  if (const std::optional<ColourPipeline::CodeTable> srgb = colour.srgb_texture_code_table()) {
+    auto table = std::make_shared<CodeTable>(*linear);
+    table->colour = *srgb;
+    tables.srgb = std::move(table);
+  }
+  return tables;
+}
+
+// Grey when every texel's three colours are the same bits, opaque when every alpha is 1:
+// the layout then drops what it can rebuild exactly (an opaque image's mips have alpha 1
+// wherever their box weights sum to 1 exactly, which a power-of-two side guarantees).
+Texture::Level Texture::exact_level(int width, int height, const std::vector<V4f>& texels) {
+  bool grey = true, opaque = true;
+  for (const V4f& t : texels) {
+    grey = grey && same_bits(t.x, t.y) && same_bits(t.y, t.z);
+    opaque = opaque && same_bits(t.w, 1.0f);
+    if (!grey && !opaque) break;
+  }
+  Level level;
+  level.width = width;
+  level.height = height;
+  level.channels = grey ? (opaque ? 1 : 2) : (opaque ? 3 : 4);
+  level.values.reserve(texels.size() * static_cast<size_t>(level.channels));
+  for (const V4f& t : texels) {
+    level.values.push_back(t.x);
+    if (!grey) {
+      level.values.push_back(t.y);
+      level.values.push_back(t.z);
+    }
+    if (!opaque) level.values.push_back(t.w);
+  }
+  return level;
+}
+
+std::shared_ptr<const Texture::Pyramid> Texture::build_pyramid(const TextureImage& image,
+                                                               const ColourPipeline& colour,
+                                                               const CodeTables& tables) {
+  auto pyramid = std::make_shared<Pyramid>();
+  std::vector<Level>& levels = pyramid->levels;
+  const size_t count = static_cast<size_t>(image.width) * image.height;
   const int c = image.channels;
-  for (size_t i = 0; i < count; ++i) {
-    const float* t = &image.pixels()[i * c];
-    // Grey and grey-alpha images broadcast their grey value; alpha defaults to opaque.
-    rgb[i * 3 + 0] = t[0];
-    rgb[i * 3 + 1] = c >= 3 ? t[1] : t[0];
-    rgb[i * 3 + 2] = c >= 3 ? t[2] : t[0];
-    base.texels[i].w = c == 4 ? t[3] : (c == 2 ? t[1] : 1.0f);
+  const std::shared_ptr<const CodeTable>& table =
+      image.encoding == TextureEncoding::srgb ? tables.srgb : tables.linear;
+  if (image.shared_codes && table && image.shared_codes->size() >= count * c) {
+    pyramid->codes = image.shared_codes;
+    pyramid->table = table;
+    Level base;
+    base.width = image.width;
+    base.height = image.height;
+    base.channels = c;
+    base.codes = pyramid->codes->data();
+    base.table = pyramid->table.get();
+    levels.push_back(std::move(base));
+  } else {
+    std::vector<float> rgb(count * 3);
+    std::vector<V4f> texels(count);
+    for (size_t i = 0; i < count; ++i) {
+      const size_t t = i * static_cast<size_t>(c);
+      // Grey and grey-alpha images broadcast their grey value; alpha defaults to opaque.
+      rgb[i * 3 + 0] = image.value(t);
+      rgb[i * 3 + 1] = c >= 3 ? image.value(t + 1) : image.value(t);
+      rgb[i * 3 + 2] = c >= 3 ? image.value(t + 2) : image.value(t);
+      texels[i].w = c == 4 ? image.value(t + 3) : (c == 2 ? image.value(t + 1) : 1.0f);
+    }
+    if (image.encoding == TextureEncoding::srgb)
+      colour.srgb_texture_to_working(rgb.data(), count, 3);
+    for (size_t i = 0; i < count; ++i) {
+      texels[i].x = rgb[i * 3 + 0];
+      texels[i].y = rgb[i * 3 + 1];
+      texels[i].z = rgb[i * 3 + 2];
+    }
+    levels.push_back(exact_level(image.width, image.height, texels));
   }
-  if (image.encoding == TextureEncoding::srgb) colour.srgb_texture_to_working(rgb.data(), count, 3);
-  for (size_t i = 0; i < count; ++i) {
-    base.texels[i].x = rgb[i * 3 + 0];
-    base.texels[i].y = rgb[i * 3 + 1];
-    base.texels[i].z = rgb[i * 3 + 2];
-  }
-  levels->push_back(std::move(base));
   // Filtered in linear values (after linearisation), as a texture's mean radiance should be.
-  while (levels->back().width > 1 || levels->back().height > 1) {
-    const Level& fine = levels->back();
-    Level coarse;
-    coarse.width = std::max(1, fine.width / 2);
-    coarse.height = std::max(1, fine.height / 2);
-    const std::vector<BoxTap> tx = box_taps(fine.width, coarse.width);
-    const std::vector<BoxTap> ty = box_taps(fine.height, coarse.height);
-    std::vector<V4f> rows(static_cast<size_t>(coarse.width) * fine.height);
+  while (levels.back().width > 1 || levels.back().height > 1) {
+    const Level& fine = levels.back();
+    const int width = std::max(1, fine.width / 2), height = std::max(1, fine.height / 2);
+    const std::vector<BoxTap> tx = box_taps(fine.width, width);
+    const std::vector<BoxTap> ty = box_taps(fine.height, height);
+    std::vector<V4f> rows(static_cast<size_t>(width) * fine.height);
     for (int y = 0; y < fine.height; ++y)
-      for (int x = 0; x < coarse.width; ++x) {
+      for (int x = 0; x < width; ++x) {
         V4f sum(0.0f);
         const BoxTap& tap = tx[static_cast<size_t>(x)];
         for (size_t k = 0; k < tap.weights.size(); ++k)
           sum += fine.texel(tap.first + static_cast<int>(k), y) * tap.weights[k];
-        rows[static_cast<size_t>(y) * coarse.width + x] = sum;
+        rows[static_cast<size_t>(y) * width + x] = sum;
       }
-    coarse.texels.assign(static_cast<size_t>(coarse.width) * coarse.height, V4f(0.0f));
-    for (int y = 0; y < coarse.height; ++y) {
+    std::vector<V4f> coarse(static_cast<size_t>(width) * height, V4f(0.0f));
+    for (int y = 0; y < height; ++y) {
       const BoxTap& tap = ty[static_cast<size_t>(y)];
       for (size_t k = 0; k < tap.weights.size(); ++k) {
-        const V4f* row = &rows[static_cast<size_t>(tap.first + static_cast<int>(k)) * coarse.width];
-        for (int x = 0; x < coarse.width; ++x)
-          coarse.texels[static_cast<size_t>(y) * coarse.width + x] += row[x] * tap.weights[k];
+        const V4f* row = &rows[static_cast<size_t>(tap.first + static_cast<int>(k)) * width];
+        for (int x = 0; x < width; ++x)
+          coarse[static_cast<size_t>(y) * width + x] += row[x] * tap.weights[k];
       }
     }
-    levels->push_back(std::move(coarse));
+    levels.push_back(exact_level(width, height, coarse));
   }
-  return levels;
+  return pyramid;
 }
 
-Texture::Texture(std::shared_ptr<const std::vector<Level>> levels, const TextureImage& sampler)
-    : levels_(std::move(levels)),
+Texture::Texture(std::shared_ptr<const Pyramid> pyramid, const TextureImage& sampler)
+    : pyramid_(std::move(pyramid)),
       wrap_s_(sampler.wrap_s),
       wrap_t_(sampler.wrap_t),
       mag_filter_(sampler.mag_filter),
@@ -125,7 +186,13 @@ Texture::Texture(std::shared_ptr<const std::vector<Level>> levels, const Texture
       mip_mode_(sampler.mip_mode) {}
 
 Texture::Texture(const TextureImage& image, const ColourPipeline& colour)
-    : Texture(build_levels(image, colour), image) {}
+    : Texture(build_pyramid(image, colour, code_tables(colour)), image) {}
+
+size_t Texture::bytes() const {
+  size_t bytes = 0;
+  for (const Level& level : pyramid_->levels) bytes += level.values.capacity() * sizeof(float);
+  return bytes;
+}
 
 V4f Texture::lookup(const Level& level, const V2f& uv, TextureFilter filter) const {
   const float w = static_cast<float>(level.width), h = static_cast<float>(level.height);
@@ -152,7 +219,7 @@ V4f Texture::lookup(const Level& level, const V2f& uv, TextureFilter filter) con
 }
 
 V4f Texture::sample(const V2f& uv, float footprint) const {
-  const std::vector<Level>& levels = *levels_;
+  const std::vector<Level>& levels = pyramid_->levels;
   const Level& base = levels.front();
   // The footprint in texels of the full image; its log2 is the mip level whose texels are
   // as wide as the footprint. A zero, negative or NaN footprint (unknown) magnifies.
@@ -185,14 +252,16 @@ std::vector<Texture> make_textures(const std::vector<TextureImage>& images,
             ? i
             : first.emplace(std::make_pair(images[i].image, images[i].encoding), i).first->second;
   }
-  std::vector<std::shared_ptr<const std::vector<Texture::Level>>> levels(images.size());
+  const Texture::CodeTables tables =
+      images.empty() ? Texture::CodeTables{} : Texture::code_tables(colour);
+  std::vector<std::shared_ptr<const Texture::Pyramid>> pyramids(images.size());
   tbb::parallel_for(size_t{0}, images.size(), [&](size_t i) {
-    if (owner[i] == i) levels[i] = Texture::build_levels(images[i], colour);
+    if (owner[i] == i) pyramids[i] = Texture::build_pyramid(images[i], colour, tables);
   });
   std::vector<Texture> textures;
   textures.reserve(images.size());
   for (size_t i = 0; i < images.size(); ++i)
-    textures.push_back(Texture(levels[owner[i]], images[i]));
+    textures.push_back(Texture(pyramids[owner[i]], images[i]));
   return textures;
 }
 
