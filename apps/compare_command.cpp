@@ -141,7 +141,7 @@ void Comparison::save(const std::string& stem, const Image& image, const RenderM
 
 void Comparison::progress(const std::string& what) {
   ++done_;
-  if (isatty(fileno(stderr)))
+  if (!o_.quiet && isatty(fileno(stderr)))
     std::fprintf(stderr, "\rprism: compare %d/%d: %s\033[K", done_, total_, what.c_str());
 }
 
@@ -150,11 +150,12 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
                               const RecordedRender* file_reference) {
   CompareReport report;
   const RenderSettings film = session_.film(base_);
-  const int camera = session_.camera_index(base_.camera);
+  const CameraDescription camera = session_.camera(base_);
+  const int camera_index = base_.frame_scene ? -1 : session_.camera_index(base_.camera);
   report.scene = o_.scene.scene_path;
   report.width = film.width;
   report.height = film.height;
-  report.camera = session_.scene().cameras[static_cast<size_t>(camera)].name;
+  report.camera = camera.name;
   report.working_space = to_string(base_.working_space);
   const auto depth = base_.integrator_parameters.find("max-depth");
   report.max_depth =
@@ -182,8 +183,8 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     const std::string cache_dir = reference_cache_dir();
     const RenderJob job = job_for(*integrator, analytic, o_.reference_spp);
     const ParameterValues parameters(integrator->parameters, job.integrator_parameters);
-    const ReferenceKey key = reference_key(o_.scene.scene_path, session_.scene(), job,
-                                           session_.film(job), parameters, camera);
+    const ReferenceKey key = reference_key(o_.scene.scene_path, job, session_.film(job), parameters,
+                                           camera, camera_index);
     const std::string cache_path = cached_reference_path(cache_dir, key);
     RenderResult result;
     if (std::optional<RecordedRender> cached = find_cached_reference(cache_dir, key)) {
@@ -254,11 +255,16 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
         row.peak_rss_mib = peak_rss_mib();
         row.error = compare_images(out.image, references.at(row.integrator)).overall;
         save(name, out.image, &out.metadata, "", job.working_space, &row);
+        if (o_.verbose)
+          std::fprintf(stderr, "\r\033[Kprism: compare: %s, %s, %s: %.4g s, RMSE %s, relMSE %s\n",
+                       row.integrator.c_str(), row.spheres.c_str(), sampling_label(row).c_str(),
+                       row.seconds, format_error(row.error->rmse).c_str(),
+                       format_error(row.error->relmse).c_str());
         tests.push_back({{i, m, k}, row});
       }
     }
   }
-  if (isatty(fileno(stderr))) std::fprintf(stderr, "\r\033[K");
+  if (!o_.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\r\033[K");
   std::stable_sort(tests.begin(), tests.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& [order, row] : tests) report.rows.push_back(std::move(row));
@@ -292,8 +298,8 @@ Plot make_plot(CompareReport* report) {
 int run(const CompareOptions& o) {
   std::vector<const IntegratorInfo*> integrators;
   for (const std::string& name : o.integrators)
-    integrators.push_back(&parse_integrator_option(name, "--integrators"));
-  refuse_duplicates(o.integrators, "--integrators");
+    integrators.push_back(&parse_integrator_option(name, "--integrator"));
+  refuse_duplicates(o.integrators, "--integrator");
   std::vector<SphereOptions> modes;
   std::vector<std::string> mode_names;
   for (const std::string& text : o.spheres) {
@@ -302,7 +308,7 @@ int run(const CompareOptions& o) {
   }
   refuse_duplicates(mode_names, "--spheres");
   refuse_duplicates(o.spp, "--spp");
-  refuse_duplicates(o.target_errors, "--target-errors");
+  refuse_duplicates(o.target_errors, "--target-error");
   // As `prism render` says it: the rounds double from --min-spp (docs/sampling.md).
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
@@ -355,6 +361,7 @@ int run(const CompareOptions& o) {
   write_results_csv((dir / "results.csv").string(), report);
   write_index_html((dir / "index.html").string(), report);
 
+  if (o.quiet) return 0;
   std::printf("compared %s, %dx%d, camera '%s'\n", o.scene.scene_path.c_str(), report.width,
               report.height, report.camera.c_str());
   for (const std::string& note : report.reference_notes)
@@ -382,15 +389,17 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
   cmd->add_option("-o,--output", o->report_dir,
                   "Report directory (created; files in it are replaced)")
       ->required();
-  cmd->add_option("--integrators", o->integrators, "Comma-separated: " + integrator_choices(", "))
+  // Named as render's; the plural is the spelling earlier versions took.
+  cmd->add_option("--integrator,--integrators", o->integrators,
+                  "One or comma-separated: " + integrator_choices(", "))
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--spp", o->spp, "Comma-separated samples per pixel")
       ->delimiter(',')
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
   CLI::Option* target_errors =
-      cmd->add_option("--target-errors", o->target_errors,
+      cmd->add_option("--target-error,--target-errors", o->target_errors,
                       "Comma-separated target errors: one adaptive render each (docs/sampling.md), "
                       "with the largest --spp as the most samples a pixel takes")
           ->delimiter(',')
@@ -398,7 +407,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
   cmd->add_option("--min-spp", o->min_spp,
                   "Adaptive renders: samples every pixel takes before the first decision (a "
                   "power of two)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str()
       ->needs(target_errors);  // alone it would change nothing
   cmd->add_option("--spheres", o->spheres,
@@ -410,12 +419,15 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
                       "Reference image (.exr) for every integrator, of the render's size");
   cmd->add_option("--reference-spp", o->reference_spp,
                   "Samples per pixel of the rendered references (analytic spheres)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->excludes(reference)
       ->capture_default_str();
   cmd->add_option("--plot-metric", o->plot_metric, "Error on the plot's y axis: rmse | relmse")
       ->check(CLI::IsMember({"rmse", "relmse"}))
       ->capture_default_str();
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose,
+                      "No progress and no table (the report is written)",
+                      "A line per render as it finishes: its time and error");
   return cmd;
 }
 

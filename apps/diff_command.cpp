@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "apps/command_line.h"
 #include "renderer/image/image_metrics.h"
 
 namespace prism {
@@ -66,10 +67,8 @@ int run(const DiffOptions& o) {
                              std::to_string(reference.height));
   const ImageError e = compare_images(image, reference);
 
-  if (o.metric == "all")
-    print_table(o, image, e);
-  else
-    std::printf("%s\n", number(pick(e.overall, o.metric)).c_str());
+  if (!o.quiet && (o.metric == "all" || o.verbose)) print_table(o, image, e);
+  if (!o.quiet && o.metric != "all") std::printf("%s\n", number(pick(e.overall, o.metric)).c_str());
   if (!o.has_fail_above) return 0;
 
   // With the whole table, the threshold applies to RMSE.
@@ -78,7 +77,7 @@ int run(const DiffOptions& o) {
   // PSNR grows as images get closer, so "past" the threshold means below it. No pixel to
   // compare (NaN) fails too: nothing was shown to be close.
   const bool past = metric == "psnr" ? !(value >= o.fail_above) : !(value <= o.fail_above);
-  if (past)
+  if (past && !o.quiet)
     std::fprintf(stderr, "prism: diff: %s %s is %s --fail-above %s\n", metric.c_str(),
                  number(value).c_str(), metric == "psnr" ? "below" : "above",
                  number(o.fail_above).c_str());
@@ -110,6 +109,9 @@ CLI::App* add_diff_command(CLI::App& app, DiffOptions* o) {
         o->has_fail_above = true;
       },
       "Exit 1 when the metric (rmse with --metric all) is above X; for psnr, below X");
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose,
+                      "Print nothing but errors: the exit code tells (with --fail-above)",
+                      "The whole table, also with one --metric (then its number last)");
   return cmd;
 }
 

@@ -13,6 +13,8 @@ struct DiffOptions {
   std::string metric = "all";  // rmse | relmse | psnr | max | all
   bool has_fail_above = false;
   double fail_above = 0.0;
+  bool quiet = false;    // print nothing: the exit code says it
+  bool verbose = false;  // the whole table even with one --metric
 };
 
 // Adds the `diff` subcommand to `app`, filling `options` when it is parsed.

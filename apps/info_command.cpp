@@ -267,6 +267,7 @@ int run(const InfoOptions& o) {
   // The file's own cameras and lights first; the defaults a render adds come after.
   request.add_defaults = false;
   Session session(request, session_options(scene_options));
+  if (o.quiet) return 0;
   const SceneDescription& scene = session.scene();
   std::printf("file: %s\n", o.scene_path.c_str());
   const nlohmann::json root = read_gltf_json(o.scene_path);
@@ -287,7 +288,7 @@ int run(const InfoOptions& o) {
               to_string(derive_scene_features(scene, spheres)).c_str());
   std::printf("warnings: %zu\n", scene.warnings.size());
   for (const std::string& w : scene.warnings) std::printf("  %s\n", w.c_str());
-  if (o.timing) {
+  if (o.timing || o.verbose) {
     // The render scene as `prism render` builds it (BVH, materials, textures). No ray
     // follows, so the quality is the cheapest to build: MEDIUM, as LOW built no faster
     // (docs/benchmarks.md).
@@ -326,6 +327,9 @@ CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
   add_scene_select_option(cmd, &o->scene);
   cmd->add_flag("--timing", o->timing,
                 "Also time loading and the BVH build, and report peak memory per triangle");
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose,
+                      "Print nothing but errors: the exit code says whether the file loads",
+                      "Everything, with --timing's line");
   return cmd;
 }
 

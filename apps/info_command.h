@@ -19,6 +19,8 @@ struct InfoOptions {
   std::string scene;                      // glTF scene name or index, empty = the file's default
   bool timing = false;                    // also time loading and the BVH build
   double memory_limit_gib = 8.0;          // --memory-limit
+  bool quiet = false;                     // print nothing: the exit code says if it loads
+  bool verbose = false;                   // also --timing
 };
 
 // Adds the `info` subcommand to `app`, filling `options` when it is parsed.

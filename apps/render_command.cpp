@@ -63,6 +63,9 @@ RenderRequest render_request(const RenderOptions& o) {
   // Everything that needs no file first, so a typo costs nothing.
   RenderJob& job = r.job;
   job = base_job(o.scene);
+  if (o.integrator.find(',') != std::string::npos)
+    throw UsageError("--integrator " + o.integrator +
+                     ": render takes one integrator (prism compare takes a list)");
   job.integrator = parse_integrator_option(o.integrator, "--integrator").name;
   job.spheres = parse_spheres_option(o.spheres, "--spheres");
   job.build_quality = parse_choice<BuildQuality>(o.build_quality, "--build-quality");
@@ -105,29 +108,28 @@ int run(const RenderOptions& o) {
   Session session(request, options);
   // Every rank would say the same: rank 0 alone prints, and writes the files.
   const bool root = session.rank() == 0;
+  // Before the warnings: a job that cannot run is one line, not the scene's notes and then it.
+  session.check(job);
   if (root) {
     print_warnings(o.scene.scene_path, session.warnings());
     for (const std::string& line : session.sphere_detection_report())
       std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),
                    line.c_str());
   }
-  session.check(job);
   if (root) print_warnings(o.scene.scene_path, session.job_warnings(job));
   // Built before the render so that --verbose can describe it and the summary time it.
   double build_seconds = 0.0;
   const RenderScene& built = session.render_scene(job, &build_seconds);
   if (o.verbose && root) {
     const GeometryStatistics& stats = built.geometry().statistics();
-    const int camera = session.camera_index(job.camera);
     const RenderSettings film = session.film(job);
     std::fprintf(stderr,
                  "prism: %s: %zu triangles (%zu meshes baked, %zu instances), %zu spheres (%s), "
                  "%zu lights, camera '%s', %dx%d, %d spp, loaded and built in %.3f s\n",
                  o.scene.scene_path.c_str(), stats.triangles, stats.meshes_baked,
                  stats.mesh_instances, stats.spheres, to_string(job.spheres).c_str(),
-                 built.lights().size(),
-                 session.scene().cameras[static_cast<size_t>(camera)].name.c_str(), film.width,
-                 film.height, film.spp, session.load_seconds() + build_seconds);
+                 built.lights().size(), session.camera(job).name.c_str(), film.width, film.height,
+                 film.spp, session.load_seconds() + build_seconds);
     std::fprintf(stderr, "prism: features: %s\n", to_string(built.features()).c_str());
   }
 
@@ -284,7 +286,7 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
     integrators += std::string(integrators.empty() ? "" : "; ") + info->name + ": " + info->summary;
   cmd->add_option("--integrator", o->integrator, integrators)->capture_default_str();
   cmd->add_option("--spp", o->spp, "Samples per pixel (1 = through pixel centres)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
   cmd->add_option("--target-error", o->target_error,
                   "Adaptive sampling: a pixel stops once the estimated relative error of its "
@@ -298,7 +300,7 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   cmd->add_option("--min-spp", o->min_spp,
                   "Adaptive sampling: samples every pixel takes before the first decision (a "
                   "power of two)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
   cmd->add_option("--sample-count-image", o->sample_count_path,
                   "Also write each pixel's number of samples (R = G = B) to this EXR");
@@ -315,22 +317,25 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                       " (docs/benchmarks.md, \"EXR writing\": none and rle write fastest, "
                       "piz and zip smallest)")
       ->capture_default_str();
-  cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)");
+  cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)")
+      ->group(kDeveloperGroup);
   cmd->add_option("--build-quality", o->build_quality,
                   "BVH build quality: " + enum_choices<BuildQuality>(" | ") +
                       " (slower to build, faster to trace)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(kDeveloperGroup);
   add_sphere_detection_options(cmd, &o->sphere_detection, true);
   cmd->add_flag("--general-path", o->general_path,
                 "Run the integrators' general code, not the one specialised on the scene's "
-                "features (same image; for tests and benchmarks)");
+                "features (same image; for tests and benchmarks)")
+      ->group(kDeveloperGroup);
   cmd->add_option("--checkpoint-interval", o->checkpoint_interval,
                   "Seconds: save the render's state to OUTPUT.checkpoint this often, and on "
                   "SIGTERM or SIGUSR1 save it and stop (exit 128 + signal); running the same "
                   "command again continues it, bit-identically (0 = off)")
       ->capture_default_str();
-  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar and no summary");
-  cmd->add_flag("-v,--verbose", o->verbose, "Describe the scene before rendering");
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose, "No progress bar and no summary",
+                      "Describe the scene before rendering");
   return cmd;
 }
 

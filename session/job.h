@@ -75,10 +75,21 @@ struct SessionOptions {
 inline constexpr int kMaxImageSide = 32768;
 bool parse_resolution(const std::string& text, int* width, int* height);
 
+// Moves a camera: each field left out keeps the camera's own (a new eye alone keeps the
+// direction of view; `up` is +Y unless given).
+struct CameraPlacement {
+  std::optional<V3d> look_from, look_at, up;
+  std::optional<double> yfov_degrees;  // perspective cameras only, above 0 and below 180
+};
+
 struct RenderJob {
   std::string integrator = "whitted";       // a name in integrators/registry.h
   ParameterSettings integrator_parameters;  // any subset of its parameter table
   std::string camera;                       // by name or index; empty = the first
+  // A camera that frames the scene's bounds as the default camera does, even when the file
+  // has cameras (`camera` must then be empty).
+  bool frame_scene = false;
+  std::optional<CameraPlacement> placement;  // moves the camera chosen
   // Explicit image size, or (0, 0): 640 x 480, or 480 high at the camera's aspect ratio
   // (an orthographic camera's xmag / ymag).
   int width = 0, height = 0;
@@ -137,7 +148,7 @@ struct RenderOutput {
   // Samples per pixel the render continued from (JobCallbacks::resume), 0 when it started
   // at the beginning; its EXR records them as prism:resumedSamples.
   int resumed_samples = 0;
-  RenderMetadata metadata;             // what its EXR records
+  RenderMetadata metadata;  // what its EXR records
   // With SessionOptions::distribute_frames: which rank this is and what the split cost. On
   // rank 0, `image` is the whole frame and `result` the frame's (rays summed over ranks,
   // seconds rank 0's until its image was whole); on the others, only their own tiles.
