@@ -49,7 +49,7 @@ void parse_shard(const std::string& text, int* shard, int* shards) {
 fs::path common_folder(const std::vector<BatchJob>& jobs, const fs::path& fallback) {
   std::optional<fs::path> common;
   for (const BatchJob& job : jobs) {
-    const fs::path folder = fs::absolute(job.files.exr).lexically_normal().parent_path();
+    const fs::path folder = fs::absolute(job.files.image).lexically_normal().parent_path();
     if (!common) {
       common = folder;
       continue;
@@ -186,7 +186,7 @@ int run(const BatchCommandOptions& o) {
                                                   : "to render";
       std::printf("%4d  %s  %s  camera %s  %s  %d spp  %s  -> %s  [%s%s%s]\n", job.index,
                   job.label().c_str(), job.spec.scene.path.c_str(), job.camera_label.c_str(),
-                  r.integrator.c_str(), r.film.spp, res.c_str(), job.files.exr.c_str(), state,
+                  r.integrator.c_str(), r.film.spp, res.c_str(), job.files.image.c_str(), state,
                   job.error.empty() ? "" : ": ", job.error.c_str());
     }
     std::printf("%zu renders%s\n", jobs.size(), shards > 1 ? (" in shard " + o.shard).c_str() : "");
@@ -202,7 +202,7 @@ int run(const BatchCommandOptions& o) {
       progress.finish();
       std::fprintf(stderr, "prism: starting job %d: %s: %s, camera %s -> %s\n", job.index,
                    job.label().c_str(), job.spec.scene.path.c_str(), job.camera_label.c_str(),
-                   job.files.exr.c_str());
+                   job.files.image.c_str());
     }
     progress.started(job);
   };

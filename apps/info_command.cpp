@@ -254,7 +254,22 @@ void print_spheres(const SceneDescription& scene) {
   }
 }
 
+// The displays and views of the OCIO config in use ($OCIO's, else the shipped one), for
+// render's --view.
+void print_views() {
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  std::printf("OCIO config: %s\n", colour.config_source().c_str());
+  for (const DisplayView& v : colour.views())
+    std::printf("  %s / %s%s\n", v.display.c_str(), v.view.c_str(),
+                v.is_default ? " (default)" : "");
+}
+
 int run(const InfoOptions& o) {
+  if (o.views) {
+    if (!o.quiet) print_views();
+    if (o.scene_path.empty()) return 0;
+  }
+  if (o.scene_path.empty()) throw UsageError("a scene file is required (or --views)");
   const SphereOptions spheres = parse_spheres_option(o.spheres, "--spheres");
   SphereDetectionFlags detection_flags = o.sphere_detection;
   detection_flags.replace = false;
@@ -317,7 +332,9 @@ int run(const InfoOptions& o) {
 CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
   CLI::App* cmd = app.add_subcommand(
       "info", "Print what a glTF file holds, its feature set and the loader's warnings");
-  cmd->add_option("scene", o->scene_path, "Scene file (.gltf or .glb)")->required();
+  cmd->add_option("scene", o->scene_path, "Scene file (.gltf or .glb)");
+  cmd->add_flag("--views", o->views,
+                "List the OCIO config's displays and views (render's --view), $OCIO's if set");
   cmd->add_option("--spheres", o->spheres,
                   "Sphere mode the feature set assumes: analytic | mesh[:LEVEL] | embree-points")
       ->capture_default_str();

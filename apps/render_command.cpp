@@ -56,6 +56,19 @@ std::string shell_command(const std::vector<std::string>& argv) {
   return text;
 }
 
+// A view the config's display lacks is a usage error found before the render.
+void check_view(const ColourPipeline& colour, const std::string& view) {
+  if (view.empty()) return;
+  std::string names;
+  for (const DisplayView& v : colour.views()) {
+    if (v.display != colour.display()) continue;
+    if (v.view == view) return;
+    names += (names.empty() ? "" : ", ") + v.view;
+  }
+  throw UsageError("--view " + view + ": display '" + colour.display() + "' of OCIO config " +
+                   colour.config_source() + " has the views " + names);
+}
+
 }  // namespace
 
 RenderRequest render_request(const RenderOptions& o) {
@@ -82,9 +95,15 @@ RenderRequest render_request(const RenderOptions& o) {
                      ": must be a finite number of seconds >= 0");
   r.checkpoint_interval = o.checkpoint_interval;
   job.reference_path = o.reference_path;
-  r.files = OutputFiles{o.output_path, o.preview_path, o.sample_count_path,
-                        o.half ? ExrPixelType::half : ExrPixelType::float32,
-                        parse_choice<ExrCompression>(o.compression, "--compression")};
+  r.files.image = o.output_path;
+  r.files.preview = o.preview_path;
+  r.files.sample_counts = o.sample_count_path;
+  r.files.pixel_type = o.half ? ExrPixelType::half : ExrPixelType::float32;
+  r.files.compression = parse_choice<ExrCompression>(o.compression, "--compression");
+  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64.0)
+    throw UsageError("--exposure " + format_error(o.exposure) +
+                     ": must be a number of stops from -64 to 64");
+  r.files.display = {o.view, o.exposure};
   r.scene = scene_request(o.scene, o.sphere_detection);
   r.session = session_options(o.scene);
   return r;
@@ -96,7 +115,8 @@ int run(const RenderOptions& o) {
   const auto wall_start = std::chrono::steady_clock::now();
   const RenderRequest r = render_request(o);
   const RenderJob& job = r.job;
-  const OutputFiles& files = r.files;
+  OutputFiles files = r.files;
+  files.exr_only = false;  // a render's -o may be any format; a batch's stay EXR
   const SceneRequest& request = r.scene;
   check_output_files(files, o.scene.scene_path);
   const bool checkpoints = r.checkpoint_interval > 0.0;
@@ -110,6 +130,7 @@ int run(const RenderOptions& o) {
   const bool root = session.rank() == 0;
   // Before the warnings: a job that cannot run is one line, not the scene's notes and then it.
   session.check(job);
+  check_view(session.colour(job.working_space), files.display.view);
   if (root) {
     print_warnings(o.scene.scene_path, session.warnings());
     for (const std::string& line : session.sphere_detection_report())
@@ -242,7 +263,10 @@ int run(const RenderOptions& o) {
                  "prism: --time-limit %g s reached after round %d (%.4g spp mean); the image "
                  "depends on this machine's speed\n",
                  out.film.time_limit_seconds, result.rounds, result.mean_spp(out.film));
+  // A large image takes a while to write: the line says so rather than sitting still.
+  progress.phase("writing " + o.output_path);
   write_output_files(files, out, session.colour(job.working_space), session.threads());
+  progress.finish();
   // The image is on disk: the checkpoint has nothing left to continue.
   if (checkpoints) {
     std::error_code remove_error;
@@ -280,7 +304,11 @@ int run(const RenderOptions& o) {
 CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene to an EXR image");
   add_scene_options(cmd, &o->scene);
-  cmd->add_option("-o,--output", o->output_path, "Output image (.exr), scene-linear")->required();
+  cmd->add_option("-o,--output", o->output_path,
+                  "Output image, its format by the extension: .exr (scene-linear, the master "
+                  "with metadata), .tif/.tiff/.hdr (scene-linear), .png/.jpg/.jpeg "
+                  "(display-referred through --view)")
+      ->required();
   std::string integrators;
   for (const IntegratorInfo* info : integrator_registry())
     integrators += std::string(integrators.empty() ? "" : "; ") + info->name + ": " + info->summary;
@@ -307,6 +335,13 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   cmd->add_option("--spheres", o->spheres, "analytic | mesh[:LEVEL] | embree-points")
       ->capture_default_str();
   cmd->add_option("--preview", o->preview_path, "Also write a display-referred PNG preview");
+  cmd->add_option("--view", o->view,
+                  "OCIO view of the PNG and JPEG outputs (default: Standard; 'ACES 1.0 "
+                  "SDR-video' rolls highlights off; prism info --views lists them)");
+  cmd->add_option("--exposure", o->exposure,
+                  "Stops by which the PNG and JPEG outputs are brightened (negative: darkened) "
+                  "before the view")
+      ->capture_default_str();
   cmd->add_option("--reference", o->reference_path,
                   "Render one sample per pixel per pass and log each pass's RMSE and relMSE "
                   "(mean of (a-b)^2/(b^2+0.01)) against this EXR on stderr; they also go into the "

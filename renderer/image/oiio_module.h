@@ -43,6 +43,11 @@ class OiioModule {
   // non-alpha ones (one is grey), alpha or 1. Throws std::runtime_error "<path>: <reason>".
   virtual Image read_image(const std::string& path) const = 0;
   virtual std::unique_ptr<RasterCanvas> make_canvas(int width, int height) const = 0;
+  // Writes `image` to `path` itself in OpenImageIO's format `format` ("tiff", "hdr",
+  // "jpeg"): RGBA float for tiff, RGB float for hdr, RGB 8-bit for jpeg (its values then
+  // display-referred in [0, 1]). Throws std::runtime_error "<path>: <reason>".
+  virtual void write_image(const std::string& path, const Image& image,
+                           const std::string& format) const = 0;
 };
 
 // The module, loaded on the first call. Throws std::runtime_error "<for_path>: <reason>"
