@@ -219,7 +219,12 @@ void write_exr(const std::string& path, const Image& image, const ColourPipeline
 void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour,
                        const DisplayOptions& options) {
   check_image(path, image);
-  const Image display = colour.working_to_display(image, options);
+  write_display_png(path, colour.working_to_display(image, options));
+}
+
+void write_display_png(const std::string& path, const Image& display) {
+  check_image(path, display);
+  const Image& image = display;
 
   // RGB only: the render's colour is premultiplied by alpha, i.e. already "over black", and a
   // preview that viewers draw over a checkerboard would misrepresent it.

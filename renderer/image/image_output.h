@@ -36,6 +36,8 @@ inline void write_exr(const std::string& path, const Image& image, const ColourP
 }
 void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour,
                        const DisplayOptions& display = {});
+// An image already display-referred (RGB in [0, 1]) as an 8-bit PNG.
+void write_display_png(const std::string& path, const Image& display);
 
 // The formats an output may have, chosen by its extension. EXR, TIFF and HDR hold the
 // scene-linear image; PNG and JPEG the display-referred one (through the OCIO view).
