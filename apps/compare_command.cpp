@@ -11,11 +11,13 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <type_traits>
 
 #include "apps/compare_plot.h"
 #include "apps/compare_report.h"
+#include "apps/progress_bar.h"
 #include "apps/reference_cache.h"
 #include "renderer/image/image_metrics.h"
 #include "renderer/image/image_output.h"
@@ -89,13 +91,20 @@ class Comparison {
   // its PNG preview, and points the row at the PNG.
   void save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
             const std::string& copy_of, WorkingSpace space, CompareRow* row);
-  void progress(const std::string& what);
+  // The line names the item under way from its start, with its tiles' share and an ETA
+  // from the time the items so far took; `finished` counts it done.
+  void starting(const std::string& what);
+  void finished() { ++done_; }
+  void draw(double fraction);
 
   const CompareOptions& o_;
   Session& session_;
   const RenderJob& base_;
   double bvh_seconds_ = 0.0;  // of the render scene built last
   int done_ = 0, total_ = 0;
+  std::string current_;
+  std::mutex draw_mutex_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_draw_{};
 };
 
 RenderJob Comparison::job_for(const IntegratorInfo& integrator, const SphereOptions& spheres,
@@ -122,8 +131,15 @@ RenderOutput Comparison::render_timed(const RenderJob& job, int warm_up_spp,
   *bvh_seconds = bvh_seconds_;
   RenderJob warm_up = job;
   warm_up.film.spp = warm_up_spp;
-  session_.render(warm_up);
-  return session_.render(job);
+  // Each of the two renders is half the item: the line moves within a long reference too.
+  JobCallbacks callbacks;
+  double base = 0.0;
+  callbacks.progress = [&](int done, int total) {
+    if (total > 0) draw(base + 0.5 * done / total);
+  };
+  session_.render(warm_up, callbacks);
+  base = 0.5;
+  return session_.render(job, callbacks);
 }
 
 void Comparison::save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
@@ -139,10 +155,30 @@ void Comparison::save(const std::string& stem, const Image& image, const RenderM
   row->image = "images/" + stem + ".png";
 }
 
-void Comparison::progress(const std::string& what) {
-  ++done_;
-  if (!o_.quiet && isatty(fileno(stderr)))
-    std::fprintf(stderr, "\rprism: compare %d/%d: %s\033[K", done_, total_, what.c_str());
+void Comparison::starting(const std::string& what) {
+  current_ = what;
+  last_draw_ = {};
+  draw(0.0);
+}
+
+void Comparison::draw(double fraction) {
+  if (o_.quiet || !isatty(fileno(stderr))) return;
+  std::unique_lock lock(draw_mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;  // a render's workers report tiles at once: one draws
+  const auto now = std::chrono::steady_clock::now();
+  if (fraction > 0.0 && now - last_draw_ < std::chrono::milliseconds(250)) return;
+  last_draw_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double items = done_ + fraction;
+  char eta[32] = "?";
+  if (items > 0.0) std::snprintf(eta, sizeof eta, "%.0fs", elapsed * (total_ - items) / items);
+  std::string line = "prism: compare " + std::to_string(done_ + 1) + "/" + std::to_string(total_) +
+                     " " + std::to_string(static_cast<int>(fraction * 100)) + "%, ETA " + eta +
+                     ": " + current_;
+  const size_t width = static_cast<size_t>(std::max(20, terminal_columns() - 1));
+  if (line.size() > width) line.resize(width);
+  std::fprintf(stderr, "\r%s\033[K", line.c_str());
+  std::fflush(stderr);
 }
 
 CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrators,
@@ -174,9 +210,10 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     row.reference = true;
     row.integrator = name;
     row.spheres = to_string(analytic);
+    starting(name + " reference");
     if (file_reference) {
       references[name] = file_reference->image;
-      progress(name + " reference");
+      finished();
       continue;
     }
     row.spp = o_.reference_spp;
@@ -213,7 +250,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     row.rays = result.rays;
     save(name + "-reference", references[name], nullptr, cache_path, base_.working_space, &row);
     report.rows.push_back(row);
-    progress(name + " reference");
+    finished();
   }
   if (file_reference) {
     CompareRow row;
@@ -246,7 +283,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
         const std::string spp_text = std::to_string(row.spp) + "spp";
         const std::string name = row.integrator + "-" + file_safe(row.spheres) + "-" +
                                  (uniform ? "" : file_safe(sampling_label(row)) + "-") + spp_text;
-        progress(row.integrator + ", " + row.spheres + ", " + sampling_label(row) + ", " +
+        starting(row.integrator + ", " + row.spheres + ", " + sampling_label(row) + ", " +
                  std::to_string(row.spp) + " spp");
         // The warm-up is the same render: an adaptive one decides its samples as it goes.
         const RenderOutput out = render_timed(job, job.film.spp, &row.bvh_seconds);
@@ -261,6 +298,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
                        row.seconds, format_error(row.error->rmse).c_str(),
                        format_error(row.error->relmse).c_str());
         tests.push_back({{i, m, k}, row});
+        finished();
       }
     }
   }
@@ -332,7 +370,10 @@ int run(const CompareOptions& o) {
     reference_cache_dir();  // fails now, not after the first renders, when there is none
   }
 
+  const bool terminal = !o.quiet && isatty(fileno(stderr));
+  if (terminal) std::fprintf(stderr, "prism: compare: loading %s", o.scene.scene_path.c_str());
   Session session(scene_request(o.scene, SphereDetectionFlags{}), session_options(o.scene));
+  if (terminal) std::fprintf(stderr, "\r\033[K");
   print_warnings(o.scene.scene_path, session.warnings());
   print_warnings(o.scene.scene_path, session.job_warnings(base));
   if (file_reference) {

@@ -4,30 +4,17 @@
 # tiles' throughput, and says when the image is being written. Usage: progress.sh PRISM SOURCE_DIR
 source "$(dirname "$0")/lib/common.bash" "$@"
 
+export PYTHONPATH="$(dirname "$0")/lib"
 python3 - "$PRISM" "$SRC/scenes/spheres.gltf" "$TMP/p.exr" <<'PY' || fail "progress line under a pty (above)"
-import fcntl, os, pty, re, struct, sys, termios, time
+import re, sys
+from pty_run import run
 prism, scene, out = sys.argv[1:]
-pid, fd = pty.fork()
-if pid == 0:
-    os.environ["COLUMNS"] = "80"
-    os.execv(prism, [prism, "render", scene, "-o", out, "--res", "320x240", "--spp", "256",
-                     "--threads", "1"])
-fcntl.ioctl(fd, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 80, 0, 0))
-start = time.monotonic()
-chunks = []  # (seconds since start, bytes)
-while True:
-    try:
-        data = os.read(fd, 65536)
-    except OSError:
-        break
-    if not data:
-        break
-    chunks.append((time.monotonic() - start, data))
-_, status = os.waitpid(pid, 0)
+code, chunks = run([prism, "render", scene, "-o", out, "--res", "320x240", "--spp", "256",
+                    "--threads", "1"])
 text = b"".join(c for _, c in chunks).decode(errors="replace")
 failures = []
-if os.waitstatus_to_exitcode(status) != 0:
-    failures.append("exit %d" % os.waitstatus_to_exitcode(status))
+if code != 0:
+    failures.append("exit %d" % code)
 # Each redraw starts with \r and ends by clearing the rest of the line.
 segments = [s.replace("\x1b[K", "") for s in re.split(r"[\r\n]", text)]
 # The progress line's redraws; the summary printed after it is not the bar.
@@ -51,6 +38,38 @@ total = chunks[-1][0] if chunks else 0
 halfway = [s for s in bars if re.search(r" (4[5-9]|5[0-5])% ", s)]
 print("lines: %d, longest %d, first bar after %.2f s of %.2f s, ETAs %s, halfway %r"
       % (len(bars), longest, first_bar or -1, total, etas[:3] + etas[-3:], halfway[:1]))
+for f in failures:
+    print("FAIL:", f)
+sys.exit(1 if failures else 0)
+PY
+
+# prism compare: a line from the start, naming the item under way (not the one before it).
+XDG_CACHE_HOME="$TMP/cache" python3 - "$PRISM" "$SRC/scenes/spheres.gltf" "$TMP/report" <<'PY' || fail "compare's progress under a pty (above)"
+import re, sys
+from pty_run import run
+prism, scene, report = sys.argv[1:]
+code, chunks = run([prism, "compare", scene, "-o", report, "--res", "64x48", "--spp", "1,4",
+                    "--integrator", "phong,whitted", "--reference-spp", "16"])
+first = next((t for t, c in chunks if b"prism: compare" in c), None)
+out = b"".join(c for _, c in chunks)
+lines = [s for s in re.split(r"[\r\n]", out.decode(errors="replace").replace("\x1b[K", ""))
+         if s.startswith("prism: compare ")]
+failures = []
+if code != 0:
+    failures.append("exit %d" % code)
+if first is None or first > 1.0:
+    failures.append("no line within the first second (%s)" % first)
+labels = []
+for s in lines:
+    m = re.match(r"prism: compare (\d+)/6 \d+%, ETA [^:]*: (.*)$", s)
+    if m and (not labels or labels[-1] != (m.group(1), m.group(2))):
+        labels.append((m.group(1), m.group(2)))
+want = [("1", "phong reference"), ("2", "whitted reference"), ("3", "phong, analytic, uniform, 1 spp")]
+if labels[:3] != want:
+    failures.append("labels %r, expected %r first" % (labels[:4], want))
+if any(len(s) > 79 for s in lines):
+    failures.append("a line longer than 79 columns")
+print("first line after %.2f s; labels %r" % (first or -1, labels))
 for f in failures:
     print("FAIL:", f)
 sys.exit(1 if failures else 0)
