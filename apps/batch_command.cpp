@@ -49,7 +49,7 @@ void parse_shard(const std::string& text, int* shard, int* shards) {
 fs::path common_folder(const std::vector<BatchJob>& jobs, const fs::path& fallback) {
   std::optional<fs::path> common;
   for (const BatchJob& job : jobs) {
-    const fs::path folder = fs::absolute(job.files.exr).lexically_normal().parent_path();
+    const fs::path folder = fs::absolute(job.files.image).lexically_normal().parent_path();
     if (!common) {
       common = folder;
       continue;
@@ -186,7 +186,7 @@ int run(const BatchCommandOptions& o) {
                                                   : "to render";
       std::printf("%4d  %s  %s  camera %s  %s  %d spp  %s  -> %s  [%s%s%s]\n", job.index,
                   job.label().c_str(), job.spec.scene.path.c_str(), job.camera_label.c_str(),
-                  r.integrator.c_str(), r.film.spp, res.c_str(), job.files.exr.c_str(), state,
+                  r.integrator.c_str(), r.film.spp, res.c_str(), job.files.image.c_str(), state,
                   job.error.empty() ? "" : ": ", job.error.c_str());
     }
     std::printf("%zu renders%s\n", jobs.size(), shards > 1 ? (" in shard " + o.shard).c_str() : "");
@@ -197,7 +197,15 @@ int run(const BatchCommandOptions& o) {
   StopSignalScope signals(true);
   BatchProgress progress(root && !o.quiet, jobs.size());
   BatchCallbacks callbacks;
-  callbacks.job_started = [&](const BatchJob& job) { progress.started(job); };
+  callbacks.job_started = [&](const BatchJob& job) {
+    if (o.verbose && root) {
+      progress.finish();
+      std::fprintf(stderr, "prism: starting job %d: %s: %s, camera %s -> %s\n", job.index,
+                   job.label().c_str(), job.spec.scene.path.c_str(), job.camera_label.c_str(),
+                   job.files.image.c_str());
+    }
+    progress.started(job);
+  };
   callbacks.progress = [&](const BatchJob&, int done, int total) { progress.tiles(done, total); };
   callbacks.job_finished = [&](const JobRecord& r) { progress.finished(r); };
   callbacks.abandon = [] { return interrupted(); };
@@ -276,7 +284,7 @@ CLI::App* add_batch_command(CLI::App& app, BatchCommandOptions* o) {
   cmd->add_flag("--keep-going", o->keep_going,
                 "Render the valid jobs of a file that has invalid ones (they count as failed)");
   cmd->add_option("--threads", o->threads, "Worker threads for the whole batch (0 = all cores)")
-      ->check(CLI::Range(0, 1024))
+      ->check(whole_number(0, 1024))
       ->capture_default_str();
   cmd->add_option("--memory-budget", o->memory_budget_gib,
                   "GiB the scenes kept loaded between jobs may hold (least recently used "
@@ -295,7 +303,8 @@ CLI::App* add_batch_command(CLI::App& app, BatchCommandOptions* o) {
                   "next run continues from; SIGTERM and SIGUSR1 save one and stop; 0 = none")
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
-  cmd->add_flag("-q,--quiet", o->quiet, "No progress and no summary table");
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose, "No progress and no summary table",
+                      "Also say when each job starts, with its scene, camera and output");
   return cmd;
 }
 

@@ -20,6 +20,7 @@ struct BatchCommandOptions {
   std::string report;              // empty: batch-report.json beside the outputs
   double checkpoint_interval = 300.0;
   bool quiet = false;
+  bool verbose = false;
 };
 
 CLI::App* add_batch_command(CLI::App& app, BatchCommandOptions* options);

@@ -149,7 +149,7 @@ std::optional<Failure> make_spec(const json& job, BatchJobSpec* spec) {
   }
   spec->scene = request.scene;
   spec->render = request.job;
-  spec->outputs = {request.files.exr, request.files.preview, request.files.sample_counts};
+  spec->outputs = {request.files.image, request.files.preview, request.files.sample_counts};
   spec->pixel_type = request.files.pixel_type;
   spec->checkpoint_interval = request.checkpoint_interval;
   for (const auto& [field, pattern] :

@@ -31,6 +31,10 @@ int write_frames(const BoidsOptions& o) {
     throw UsageError(o.config + ": " + e.what());
   }
   const double fps = 1.0 / (config.flock.time_step * config.clip.steps_per_frame);
+  if (o.verbose)
+    std::printf("config %s: time step %.4g s, %d steps per frame\n", o.config.c_str(),
+                config.flock.time_step, config.clip.steps_per_frame);
+  if (o.quiet) return 0;
   std::printf("wrote %d frame scenes (%d boids, obstacle spheres: %zu, %.4g frames/s) to %s\n",
               layout.frames, config.flock.boids, config.flock.obstacles.size(), fps,
               (layout.dir / "scenes").c_str());
@@ -47,6 +51,13 @@ int write_previews(const BoidsOptions& o) {
                      (dir / "boids-jobs.json").string() + " first");
   const ClipLayout layout{dir, static_cast<int>(frames.size())};
   write_contact_sheet(frames, layout.contact_sheet());
+  if (o.verbose)
+    for (const fs::path& frame : frames) std::printf("frame %s\n", frame.c_str());
+  if (o.quiet) {
+    const std::string video = write_video(frames, layout.video(), o.fps);
+    if (!video.empty()) std::fprintf(stderr, "prism: warning: no MP4: %s\n", video.c_str());
+    return 0;
+  }
   std::printf("wrote %s (%zu frames)\n", layout.contact_sheet().c_str(), frames.size());
   const std::string video = write_video(frames, layout.video(), o.fps);
   if (video.empty())
@@ -66,11 +77,11 @@ CLI::App* add_boids_command(CLI::App& app, BoidsOptions* o) {
   CLI::Option* config = cmd->add_option("--config", o->config, "Flock config (.json)");
   CLI::Option* frames =
       cmd->add_option("--frames", o->frames, "Frames to write (default: the config's)")
-          ->check(CLI::Range(1, 100000));
+          ->check(whole_number(1, 100000));
   CLI::Option* output = cmd->add_option("-o,--output", o->output, "Folder the clip is written to");
   cmd->add_option("--threads", o->threads,
                   "Worker threads (0 = all cores); the flock is the same for any")
-      ->check(CLI::Range(0, 1024))
+      ->check(whole_number(0, 1024))
       ->capture_default_str();
   CLI::Option* preview = cmd->add_option(
       "--preview", o->preview,
@@ -78,6 +89,8 @@ CLI::App* add_boids_command(CLI::App& app, BoidsOptions* o) {
   cmd->add_option("--fps", o->fps, "Frames per second of the MP4")
       ->check(CLI::Range(0.1, 1000.0))
       ->capture_default_str();
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose, "Nothing on stdout",
+                      "Also print the config's time step and, with --preview, each frame used");
   preview->excludes(config)->excludes(frames)->excludes(output);
   return cmd;
 }

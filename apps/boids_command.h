@@ -16,6 +16,8 @@ struct BoidsOptions {
   int threads = 0;      // 0 = all cores
   std::string preview;  // a rendered clip's folder: make its previews instead
   double fps = 30.0;    // of the MP4
+  bool quiet = false;   // nothing on stdout
+  bool verbose = false;
 };
 
 CLI::App* add_boids_command(CLI::App& app, BoidsOptions* options);

@@ -1,5 +1,6 @@
 #include "apps/command_line.h"
 
+#include <cerrno>
 #include <cstdio>
 
 #include "distributed/world.h"
@@ -12,9 +13,17 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
                   "Image size WIDTHxHEIGHT (default 640x480, or 480 high at the camera's aspect "
                   "ratio or xmag/ymag)");
   add_scene_select_option(cmd, &o->scene);
-  cmd->add_option("--camera", o->camera, "Camera name or index (default: the first)");
+  cmd->add_option("--camera", o->camera,
+                  "Camera name or index (default: the first), or auto: one framing the scene's "
+                  "bounds as the default camera does");
+  cmd->add_option("--look-from", o->look_from, "X,Y,Z: move the camera there");
+  cmd->add_option("--look-at", o->look_at, "X,Y,Z: turn the camera to look at this point");
+  cmd->add_option("--up", o->up,
+                  "X,Y,Z: the camera's up direction with --look-from/--look-at "
+                  "(default 0,1,0)");
+  cmd->add_option("--fov", o->fov, "Degrees: the camera's vertical field of view (perspective)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 1024))
+      ->check(whole_number(0, 1024))
       ->capture_default_str();
   cmd->add_option("--working-space", o->working_space, enum_choices<WorkingSpace>(" | "))
       ->capture_default_str();
@@ -53,6 +62,26 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
   }
   add_allow_external_paths_flag(cmd, &o->allow_external_paths);
   add_memory_limit_option(cmd, &o->memory_limit_gib);
+}
+
+CLI::Validator whole_number(int lo, int hi) {
+  const std::string range = std::to_string(lo) + " to " + std::to_string(hi);
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long v = std::strtol(text.c_str(), &end, 10);
+        if (end == text.c_str() || *end != '\0' || errno != 0 || v < lo || v > hi)
+          return "must be a whole number from " + range + ", not " + text;
+        return "";
+      },
+      "whole number " + range);
+}
+
+void add_verbosity_flags(CLI::App* cmd, bool* quiet, bool* verbose, const std::string& quiet_help,
+                         const std::string& verbose_help) {
+  cmd->add_flag("-q,--quiet", *quiet, quiet_help);
+  cmd->add_flag("-v,--verbose", *verbose, verbose_help);
 }
 
 void add_memory_limit_option(CLI::App* cmd, double* gib) {
@@ -134,14 +163,45 @@ RenderJob base_job(const SceneOptions& o) {
   if (!parse_background(o.background, &job.background))
     throw UsageError("--background " + o.background +
                      ": expected a radiance L or R,G,B, each finite and >= 0");
-  job.camera = o.camera;
   if (!std::isfinite(o.environment.intensity) || o.environment.intensity < 0.0f)
     throw UsageError("--environment-intensity: must be a finite number >= 0");
   if (!std::isfinite(o.environment.rotation_degrees))
     throw UsageError("--environment-rotation: must be a finite angle in degrees");
   job.environment = o.environment;
+  if (o.camera == "auto")
+    job.frame_scene = true;
+  else
+    job.camera = o.camera;
+  if (!o.look_from.empty() || !o.look_at.empty() || !o.up.empty() || o.fov != 0.0) {
+    CameraPlacement place;
+    if (!o.look_from.empty()) place.look_from = parse_vector_option(o.look_from, "--look-from");
+    if (!o.look_at.empty()) place.look_at = parse_vector_option(o.look_at, "--look-at");
+    if (!o.up.empty()) place.up = parse_vector_option(o.up, "--up");
+    if (o.fov != 0.0) {
+      if (!(o.fov > 0.0 && o.fov < 180.0))
+        throw UsageError("--fov " + format_error(o.fov) +
+                         ": must be above 0 and below 180 degrees");
+      place.yfov_degrees = o.fov;
+    }
+    job.placement = place;
+  }
   job.integrator_parameters = o.integrator_parameters;
   return job;
+}
+
+V3d parse_vector_option(const std::string& text, const std::string& option) {
+  double v[3] = {};
+  size_t at = 0;
+  for (int i = 0; i < 3; ++i) {
+    const size_t end = i < 2 ? text.find(',', at) : text.size();
+    const std::string part = end == std::string::npos ? std::string() : text.substr(at, end - at);
+    char* stop = nullptr;
+    v[i] = std::strtod(part.c_str(), &stop);
+    if (part.empty() || *stop != '\0' || !std::isfinite(v[i]) || (i == 2 && at > text.size()))
+      throw UsageError(option + " " + text + ": expected X,Y,Z, three finite numbers");
+    at = end + 1;
+  }
+  return V3d(v[0], v[1], v[2]);
 }
 
 SphereOptions parse_spheres_option(const std::string& text, const std::string& option) {

@@ -30,8 +30,10 @@ struct UsageError : std::runtime_error {
 struct SceneOptions {
   std::string scene_path;
   std::string resolution;  // "WxH", empty = 640x480 or 480 high at the camera's aspect ratio
-  std::string camera;      // name or index, empty = the first
-  std::string scene;       // glTF scene name or index, empty = the file's default
+  std::string camera;      // name or index, empty = the first, "auto" = framing the scene
+  std::string look_from, look_at, up;  // "X,Y,Z", empty = the camera's own
+  double fov = 0.0;                    // degrees, 0 = the camera's own
+  std::string scene;                   // glTF scene name or index, empty = the file's default
   int threads = 0;
   std::string working_space = "linear-rec709";
   std::string brdf = "gltf";
@@ -54,6 +56,19 @@ inline const CLI::Validator kPositiveFinite(
       return "";
     },
     "POSITIVE");
+
+// Accepts a whole number from `lo` to `hi` (CLI11's Range takes 1.5 for a number and calls it
+// "not in range"): --spp, --min-spp, --threads, compare's --spp.
+CLI::Validator whole_number(int lo, int hi);
+
+// The heading `--help` lists the options for developers under (the Embree flags,
+// --general-path), apart from those every user needs.
+inline constexpr const char* kDeveloperGroup = "Developer options";
+
+// Adds -q,--quiet and -v,--verbose (every command offers both). Together, each does what it
+// does alone: `render -q -v` describes the scene and prints no progress.
+void add_verbosity_flags(CLI::App* cmd, bool* quiet, bool* verbose, const std::string& quiet_help,
+                         const std::string& verbose_help);
 
 // Adds --scene NAME|INDEX (every command that reads a scene file offers it).
 void add_scene_select_option(CLI::App* cmd, std::string* scene);
@@ -91,6 +106,8 @@ E parse_choice(const std::string& text, const std::string& option) {
     throw UsageError(option + " " + text + ": expected " + enum_choices<E>());
   return value;
 }
+// "X,Y,Z" (three finite numbers) -> the vector; UsageError naming `option` otherwise.
+V3d parse_vector_option(const std::string& text, const std::string& option);
 // "analytic", "mesh:3", ... -> SphereOptions; `option` names the flag in the error.
 SphereOptions parse_spheres_option(const std::string& text, const std::string& option);
 // An integrator name of the registry; `option` names the flag in the error.

@@ -11,11 +11,13 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <type_traits>
 
 #include "apps/compare_plot.h"
 #include "apps/compare_report.h"
+#include "apps/progress_bar.h"
 #include "apps/reference_cache.h"
 #include "renderer/image/image_metrics.h"
 #include "renderer/image/image_output.h"
@@ -89,13 +91,20 @@ class Comparison {
   // its PNG preview, and points the row at the PNG.
   void save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
             const std::string& copy_of, WorkingSpace space, CompareRow* row);
-  void progress(const std::string& what);
+  // The line names the item under way from its start, with its tiles' share and an ETA
+  // from the time the items so far took; `finished` counts it done.
+  void starting(const std::string& what);
+  void finished() { ++done_; }
+  void draw(double fraction);
 
   const CompareOptions& o_;
   Session& session_;
   const RenderJob& base_;
   double bvh_seconds_ = 0.0;  // of the render scene built last
   int done_ = 0, total_ = 0;
+  std::string current_;
+  std::mutex draw_mutex_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_draw_{};
 };
 
 RenderJob Comparison::job_for(const IntegratorInfo& integrator, const SphereOptions& spheres,
@@ -122,8 +131,15 @@ RenderOutput Comparison::render_timed(const RenderJob& job, int warm_up_spp,
   *bvh_seconds = bvh_seconds_;
   RenderJob warm_up = job;
   warm_up.film.spp = warm_up_spp;
-  session_.render(warm_up);
-  return session_.render(job);
+  // Each of the two renders is half the item: the line moves within a long reference too.
+  JobCallbacks callbacks;
+  double base = 0.0;
+  callbacks.progress = [&](int done, int total) {
+    if (total > 0) draw(base + 0.5 * done / total);
+  };
+  session_.render(warm_up, callbacks);
+  base = 0.5;
+  return session_.render(job, callbacks);
 }
 
 void Comparison::save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
@@ -139,10 +155,30 @@ void Comparison::save(const std::string& stem, const Image& image, const RenderM
   row->image = "images/" + stem + ".png";
 }
 
-void Comparison::progress(const std::string& what) {
-  ++done_;
-  if (isatty(fileno(stderr)))
-    std::fprintf(stderr, "\rprism: compare %d/%d: %s\033[K", done_, total_, what.c_str());
+void Comparison::starting(const std::string& what) {
+  current_ = what;
+  last_draw_ = {};
+  draw(0.0);
+}
+
+void Comparison::draw(double fraction) {
+  if (o_.quiet || !isatty(fileno(stderr))) return;
+  std::unique_lock lock(draw_mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;  // a render's workers report tiles at once: one draws
+  const auto now = std::chrono::steady_clock::now();
+  if (fraction > 0.0 && now - last_draw_ < std::chrono::milliseconds(250)) return;
+  last_draw_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double items = done_ + fraction;
+  char eta[32] = "?";
+  if (items > 0.0) std::snprintf(eta, sizeof eta, "%.0fs", elapsed * (total_ - items) / items);
+  std::string line = "prism: compare " + std::to_string(done_ + 1) + "/" + std::to_string(total_) +
+                     " " + std::to_string(static_cast<int>(fraction * 100)) + "%, ETA " + eta +
+                     ": " + current_;
+  const size_t width = static_cast<size_t>(std::max(20, terminal_columns() - 1));
+  if (line.size() > width) line.resize(width);
+  std::fprintf(stderr, "\r%s\033[K", line.c_str());
+  std::fflush(stderr);
 }
 
 CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrators,
@@ -150,11 +186,12 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
                               const RecordedRender* file_reference) {
   CompareReport report;
   const RenderSettings film = session_.film(base_);
-  const int camera = session_.camera_index(base_.camera);
+  const CameraDescription camera = session_.camera(base_);
+  const int camera_index = base_.frame_scene ? -1 : session_.camera_index(base_.camera);
   report.scene = o_.scene.scene_path;
   report.width = film.width;
   report.height = film.height;
-  report.camera = session_.scene().cameras[static_cast<size_t>(camera)].name;
+  report.camera = camera.name;
   report.working_space = to_string(base_.working_space);
   const auto depth = base_.integrator_parameters.find("max-depth");
   report.max_depth =
@@ -173,17 +210,18 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     row.reference = true;
     row.integrator = name;
     row.spheres = to_string(analytic);
+    starting(name + " reference");
     if (file_reference) {
       references[name] = file_reference->image;
-      progress(name + " reference");
+      finished();
       continue;
     }
     row.spp = o_.reference_spp;
     const std::string cache_dir = reference_cache_dir();
     const RenderJob job = job_for(*integrator, analytic, o_.reference_spp);
     const ParameterValues parameters(integrator->parameters, job.integrator_parameters);
-    const ReferenceKey key = reference_key(o_.scene.scene_path, session_.scene(), job,
-                                           session_.film(job), parameters, camera);
+    const ReferenceKey key = reference_key(o_.scene.scene_path, job, session_.film(job), parameters,
+                                           camera, camera_index);
     const std::string cache_path = cached_reference_path(cache_dir, key);
     RenderResult result;
     if (std::optional<RecordedRender> cached = find_cached_reference(cache_dir, key)) {
@@ -220,7 +258,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     row.rays = result.rays;
     save(name + "-reference", references[name], nullptr, cache_path, base_.working_space, &row);
     report.rows.push_back(row);
-    progress(name + " reference");
+    finished();
   }
   if (file_reference) {
     CompareRow row;
@@ -253,7 +291,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
         const std::string spp_text = std::to_string(row.spp) + "spp";
         const std::string name = row.integrator + "-" + file_safe(row.spheres) + "-" +
                                  (uniform ? "" : file_safe(sampling_label(row)) + "-") + spp_text;
-        progress(row.integrator + ", " + row.spheres + ", " + sampling_label(row) + ", " +
+        starting(row.integrator + ", " + row.spheres + ", " + sampling_label(row) + ", " +
                  std::to_string(row.spp) + " spp");
         // The warm-up is the same render: an adaptive one decides its samples as it goes.
         const RenderOutput out = render_timed(job, job.film.spp, &row.bvh_seconds);
@@ -262,11 +300,17 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
         row.peak_rss_mib = peak_rss_mib();
         row.error = compare_images(out.image, references.at(row.integrator)).overall;
         save(name, out.image, &out.metadata, "", job.working_space, &row);
+        if (o_.verbose)
+          std::fprintf(stderr, "\r\033[Kprism: compare: %s, %s, %s: %.4g s, RMSE %s, relMSE %s\n",
+                       row.integrator.c_str(), row.spheres.c_str(), sampling_label(row).c_str(),
+                       row.seconds, format_error(row.error->rmse).c_str(),
+                       format_error(row.error->relmse).c_str());
         tests.push_back({{i, m, k}, row});
+        finished();
       }
     }
   }
-  if (isatty(fileno(stderr))) std::fprintf(stderr, "\r\033[K");
+  if (!o_.quiet && isatty(fileno(stderr))) std::fprintf(stderr, "\r\033[K");
   std::stable_sort(tests.begin(), tests.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& [order, row] : tests) report.rows.push_back(std::move(row));
@@ -300,8 +344,8 @@ Plot make_plot(CompareReport* report) {
 int run(const CompareOptions& o) {
   std::vector<const IntegratorInfo*> integrators;
   for (const std::string& name : o.integrators)
-    integrators.push_back(&parse_integrator_option(name, "--integrators"));
-  refuse_duplicates(o.integrators, "--integrators");
+    integrators.push_back(&parse_integrator_option(name, "--integrator"));
+  refuse_duplicates(o.integrators, "--integrator");
   std::vector<SphereOptions> modes;
   std::vector<std::string> mode_names;
   for (const std::string& text : o.spheres) {
@@ -310,7 +354,7 @@ int run(const CompareOptions& o) {
   }
   refuse_duplicates(mode_names, "--spheres");
   refuse_duplicates(o.spp, "--spp");
-  refuse_duplicates(o.target_errors, "--target-errors");
+  refuse_duplicates(o.target_errors, "--target-error");
   // As `prism render` says it: the rounds double from --min-spp (docs/sampling.md).
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
@@ -334,7 +378,10 @@ int run(const CompareOptions& o) {
     reference_cache_dir();  // fails now, not after the first renders, when there is none
   }
 
+  const bool terminal = !o.quiet && isatty(fileno(stderr));
+  if (terminal) std::fprintf(stderr, "prism: compare: loading %s", o.scene.scene_path.c_str());
   Session session(scene_request(o.scene, SphereDetectionFlags{}), session_options(o.scene));
+  if (terminal) std::fprintf(stderr, "\r\033[K");
   print_warnings(o.scene.scene_path, session.warnings());
   print_warnings(o.scene.scene_path, session.job_warnings(base));
   if (file_reference) {
@@ -363,6 +410,7 @@ int run(const CompareOptions& o) {
   write_results_csv((dir / "results.csv").string(), report);
   write_index_html((dir / "index.html").string(), report);
 
+  if (o.quiet) return 0;
   std::printf("compared %s, %dx%d, camera '%s'\n", o.scene.scene_path.c_str(), report.width,
               report.height, report.camera.c_str());
   for (const std::string& note : report.reference_notes)
@@ -390,15 +438,17 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
   cmd->add_option("-o,--output", o->report_dir,
                   "Report directory (created; files in it are replaced)")
       ->required();
-  cmd->add_option("--integrators", o->integrators, "Comma-separated: " + integrator_choices(", "))
+  // Named as render's; the plural is the spelling earlier versions took.
+  cmd->add_option("--integrator,--integrators", o->integrators,
+                  "One or comma-separated: " + integrator_choices(", "))
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--spp", o->spp, "Comma-separated samples per pixel")
       ->delimiter(',')
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
   CLI::Option* target_errors =
-      cmd->add_option("--target-errors", o->target_errors,
+      cmd->add_option("--target-error,--target-errors", o->target_errors,
                       "Comma-separated target errors: one adaptive render each (docs/sampling.md), "
                       "with the largest --spp as the most samples a pixel takes")
           ->delimiter(',')
@@ -406,7 +456,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
   cmd->add_option("--min-spp", o->min_spp,
                   "Adaptive renders: samples every pixel takes before the first decision (a "
                   "power of two)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str()
       ->needs(target_errors);  // alone it would change nothing
   cmd->add_option("--spheres", o->spheres,
@@ -418,7 +468,7 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
                       "Reference image (.exr) for every integrator, of the render's size");
   cmd->add_option("--reference-spp", o->reference_spp,
                   "Samples per pixel of the rendered references (analytic spheres)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->excludes(reference)
       ->capture_default_str();
   cmd->add_option("--cache-limit", o->cache_limit_gib,
@@ -444,6 +494,9 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
   cmd->add_option("--plot-metric", o->plot_metric, "Error on the plot's y axis: rmse | relmse")
       ->check(CLI::IsMember({"rmse", "relmse"}))
       ->capture_default_str();
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose,
+                      "No progress and no table (the report is written)",
+                      "A line per render as it finishes: its time and error");
   return cmd;
 }
 

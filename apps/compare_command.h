@@ -28,6 +28,8 @@ struct CompareOptions {
   double cache_limit_gib = kDefaultCacheLimitGib;  // the reference cache's bound
   std::string report_dir;
   std::string plot_metric = "relmse";
+  bool quiet = false;    // no progress and no table
+  bool verbose = false;  // a line per render as it finishes
 };
 
 // Adds the `compare` subcommand to `app`, filling `options` when it is parsed.

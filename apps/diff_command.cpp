@@ -5,7 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "apps/command_line.h"
 #include "renderer/image/image_metrics.h"
+#include "renderer/image/image_output.h"
 
 namespace prism {
 namespace {
@@ -57,6 +59,17 @@ void print_table(const DiffOptions& o, const Image& image, const ImageError& e) 
 int run(const DiffOptions& o) {
   if (o.has_fail_above && !std::isfinite(o.fail_above))
     throw std::runtime_error("--fail-above: must be a finite number");
+  const auto check_extension = [](const std::string& path, const char* option, ImageFormat want,
+                                  const char* extension) {
+    ImageFormat format{};
+    if (!path.empty() && (!image_format_for_path(path, &format) || format != want))
+      throw std::runtime_error(std::string(option) + " " + path + ": the file name must end in " +
+                               extension);
+  };
+  check_extension(o.difference_path, "-o", ImageFormat::exr, ".exr");
+  check_extension(o.heatmap_path, "--heatmap", ImageFormat::png, ".png");
+  if (!(o.heatmap_peak >= 0.0) || !std::isfinite(o.heatmap_peak))
+    throw std::runtime_error("--heatmap-peak: must be a finite error >= 0");
   const Image image = read_exr(o.image_path);
   const Image reference = read_exr(o.reference_path);
   if (image.width != reference.width || image.height != reference.height)
@@ -65,11 +78,26 @@ int run(const DiffOptions& o) {
                              std::to_string(reference.width) + "x" +
                              std::to_string(reference.height));
   const ImageError e = compare_images(image, reference);
+  if (!o.difference_path.empty() || !o.heatmap_path.empty()) {
+    const Image difference = difference_image(image, reference);
+    if (!o.difference_path.empty()) {
+      RenderMetadata metadata;
+      metadata.integrator = "diff";
+      metadata.scene_path = o.image_path + " - " + o.reference_path;
+      write_exr(o.difference_path, difference, ColourPipeline(WorkingSpace::linear_rec709),
+                metadata, ExrPixelType::float32);
+    }
+    if (!o.heatmap_path.empty()) {
+      const double peak = o.heatmap_peak > 0.0 ? o.heatmap_peak : e.overall.max_abs;
+      write_display_png(o.heatmap_path, error_heatmap(difference, static_cast<float>(peak)));
+      if (!o.quiet)
+        std::printf("heat map %s: white at an error of %s\n", o.heatmap_path.c_str(),
+                    number(peak).c_str());
+    }
+  }
 
-  if (o.metric == "all")
-    print_table(o, image, e);
-  else
-    std::printf("%s\n", number(pick(e.overall, o.metric)).c_str());
+  if (!o.quiet && (o.metric == "all" || o.verbose)) print_table(o, image, e);
+  if (!o.quiet && o.metric != "all") std::printf("%s\n", number(pick(e.overall, o.metric)).c_str());
   if (!o.has_fail_above) return 0;
 
   // With the whole table, the threshold applies to RMSE.
@@ -78,7 +106,7 @@ int run(const DiffOptions& o) {
   // PSNR grows as images get closer, so "past" the threshold means below it. No pixel to
   // compare (NaN) fails too: nothing was shown to be close.
   const bool past = metric == "psnr" ? !(value >= o.fail_above) : !(value <= o.fail_above);
-  if (past)
+  if (past && !o.quiet)
     std::fprintf(stderr, "prism: diff: %s %s is %s --fail-above %s\n", metric.c_str(),
                  number(value).c_str(), metric == "psnr" ? "below" : "above",
                  number(o.fail_above).c_str());
@@ -110,6 +138,17 @@ CLI::App* add_diff_command(CLI::App& app, DiffOptions* o) {
         o->has_fail_above = true;
       },
       "Exit 1 when the metric (rmse with --metric all) is above X; for psnr, below X");
+  cmd->add_option("-o,--output", o->difference_path,
+                  "Also write the difference |image - reference| per channel to this EXR (as "
+                  "idiff -o)");
+  cmd->add_option("--heatmap", o->heatmap_path,
+                  "Also write a false-colour PNG of each pixel's largest channel error: black, "
+                  "blue, magenta, red, yellow, white at --heatmap-peak; non-finite green");
+  cmd->add_option("--heatmap-peak", o->heatmap_peak,
+                  "The error the heat map draws white (default: the largest in the image)");
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose,
+                      "Print nothing but errors: the exit code tells (with --fail-above)",
+                      "The whole table, also with one --metric (then its number last)");
   return cmd;
 }
 

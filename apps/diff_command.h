@@ -13,6 +13,11 @@ struct DiffOptions {
   std::string metric = "all";  // rmse | relmse | psnr | max | all
   bool has_fail_above = false;
   double fail_above = 0.0;
+  std::string difference_path;  // -o: |a - b| as an EXR
+  std::string heatmap_path;     // --heatmap: the false-colour PNG
+  double heatmap_peak = 0.0;    // the error drawn white; 0 = the largest in the image
+  bool quiet = false;           // print nothing: the exit code says it
+  bool verbose = false;         // the whole table even with one --metric
 };
 
 // Adds the `diff` subcommand to `app`, filling `options` when it is parsed.

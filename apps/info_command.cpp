@@ -120,22 +120,36 @@ void print_scenes(const nlohmann::json& root, const InfoOptions& o) {
   }
 }
 
-void print_meshes(const SceneDescription& scene) {
-  std::vector<size_t> placements(scene.meshes.size(), 0);
+// How the meshes are placed: what the text and the JSON both report.
+struct Placements {
+  std::vector<size_t> per_mesh;  // nodes placing each mesh
+  size_t placed_triangles = 0;   // each instance counted, as the file holds them
+  size_t instanced = 0;          // meshes placed more than once
+  size_t placed_meshes = 0;
+};
+
+Placements placements(const SceneDescription& scene) {
+  Placements out;
+  out.per_mesh.assign(scene.meshes.size(), 0);
   for (const MeshInstance& i : scene.instances)
-    if (i.mesh >= 0 && static_cast<size_t>(i.mesh) < placements.size())
-      ++placements[static_cast<size_t>(i.mesh)];
-  size_t placed_triangles = 0, instanced = 0;
+    if (i.mesh >= 0 && static_cast<size_t>(i.mesh) < out.per_mesh.size())
+      ++out.per_mesh[static_cast<size_t>(i.mesh)];
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     size_t triangles = 0;
     for (const Primitive& p : scene.meshes[m].primitives) triangles += p.indices.size() / 3;
-    placed_triangles += triangles * placements[m];
-    if (placements[m] > 1) ++instanced;
+    out.placed_triangles += triangles * out.per_mesh[m];
+    if (out.per_mesh[m] > 1) ++out.instanced;
+    if (out.per_mesh[m] > 0) ++out.placed_meshes;
   }
+  return out;
+}
+
+void print_meshes(const SceneDescription& scene) {
+  const Placements placed = placements(scene);
+  const std::vector<size_t>& placements = placed.per_mesh;
   std::printf("meshes: %zu (%zu placed by %zu nodes, %zu instanced), %s triangles as placed\n",
-              scene.meshes.size(),
-              scene.meshes.size() - std::count(placements.begin(), placements.end(), size_t{0}),
-              scene.instances.size(), instanced, with_commas(placed_triangles).c_str());
+              scene.meshes.size(), placed.placed_meshes, scene.instances.size(), placed.instanced,
+              with_commas(placed.placed_triangles).c_str());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     size_t triangles = 0;
@@ -254,7 +268,161 @@ void print_spheres(const SceneDescription& scene) {
   }
 }
 
+// The displays and views of the OCIO config in use ($OCIO's, else the shipped one), for
+// render's --view.
+void print_views() {
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  std::printf("OCIO config: %s\n", colour.config_source().c_str());
+  for (const DisplayView& v : colour.views())
+    std::printf("  %s / %s%s\n", v.display.c_str(), v.view.c_str(),
+                v.is_default ? " (default)" : "");
+}
+
+struct Timing {
+  double load_seconds = 0.0, build_seconds = 0.0, peak_bytes = 0.0;
+  GeometryStatistics built;
+};
+
+// The render scene as `prism render` builds it (BVH, materials, textures). No ray follows,
+// so the quality is the cheapest to build: MEDIUM, as LOW built no faster
+// (docs/benchmarks.md).
+Timing measure(Session* session, const SphereOptions& spheres) {
+  RenderJob job;
+  job.spheres = spheres;
+  job.build_quality = BuildQuality::medium;
+  Timing t;
+  const RenderScene& built = session->render_scene(job, &t.build_seconds);
+  struct rusage usage {};
+  getrusage(RUSAGE_SELF, &usage);
+  t.built = built.geometry().statistics();
+  t.peak_bytes = static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux: KiB
+  t.load_seconds = session->load_seconds();
+  return t;
+}
+
+nlohmann::json vector_json(const V3d& v) {
+  return nlohmann::json::array({v.x, v.y, v.z});
+}
+nlohmann::json colour_json(const C3f& c) {
+  return nlohmann::json::array({c.x, c.y, c.z});
+}
+nlohmann::json strings_json(const nlohmann::json& root, const char* key) {
+  nlohmann::json out = nlohmann::json::array();
+  if (root.is_object() && root.contains(key) && root[key].is_array())
+    for (const auto& name : root[key])
+      if (name.is_string()) out.push_back(name);
+  return out;
+}
+size_t array_size(const nlohmann::json& object, const char* key) {
+  return object.is_object() && object.contains(key) && object[key].is_array() ? object[key].size()
+                                                                              : 0;
+}
+
+// docs/info.md has the schema; "version" changes when a field changes meaning or goes.
+nlohmann::json info_json(const InfoOptions& o, Session* session, const nlohmann::json& root,
+                         const SphereOptions& spheres) {
+  using nlohmann::json;
+  const SceneDescription& scene = session->scene();
+  json out = {{"version", 1}, {"file", o.scene_path}};
+  std::vector<std::string> names;
+  if (root.is_object() && root.contains("scenes") && root["scenes"].is_array())
+    for (const auto& s : root["scenes"])
+      names.push_back(s.is_object() ? s.value("name", std::string()) : std::string());
+  const size_t default_scene =
+      root.is_object() && root.contains("scene") ? root["scene"].get<size_t>() : size_t{0};
+  json scenes = {{"count", names.size()}, {"names", names}};
+  if (!names.empty()) {
+    scenes["default"] = default_scene;
+    scenes["loaded"] =
+        o.scene.empty() ? default_scene : gltf_detail::select_scene(names, o.scene, o.scene_path);
+  }
+  out["scenes"] = scenes;
+  const Imath::Box3d box = world_bounds(scene);
+  out["bounds"] = box.isEmpty()
+                      ? json(nullptr)
+                      : json{{"min", vector_json(box.min)}, {"max", vector_json(box.max)}};
+  const Placements placed = placements(scene);
+  out["meshes"] = {{"count", scene.meshes.size()},
+                   {"placed", placed.placed_meshes},
+                   {"nodes", scene.instances.size()},
+                   {"instanced", placed.instanced},
+                   {"triangles_as_placed", placed.placed_triangles}};
+  json materials = json::array();
+  for (const MaterialDescription& m : scene.materials)
+    materials.push_back(
+        {{"name", m.name},
+         {"base_colour", colour_json(m.base_colour)},
+         {"alpha", m.alpha},
+         {"metallic", m.metallic},
+         {"roughness", m.roughness},
+         {"emissive", colour_json(m.emissive)},
+         {"transmission", m.transmission},
+         {"ior", m.ior},
+         {"double_sided", m.double_sided},
+         {"textured", m.base_colour_texture >= 0 || m.metallic_roughness_texture >= 0 ||
+                          m.emissive_texture >= 0}});
+  out["materials"] = materials;
+  out["textures"] = scene.textures.size();
+  json lights = json::array();
+  for (const Light& l : scene.lights) {
+    json light = {{"name", l.name},
+                  {"type", to_string(l.type)},
+                  {"intensity", l.intensity},
+                  {"unit", l.type == LightType::directional ? "lx" : "cd"},
+                  {"colour", colour_json(l.colour)}};
+    if (l.type != LightType::directional) light["position"] = vector_json(l.position);
+    if (l.type != LightType::point) light["direction"] = vector_json(l.direction);
+    lights.push_back(light);
+  }
+  out["lights"] = lights;
+  json cameras = json::array();
+  for (const CameraDescription& c : scene.cameras) {
+    const M44d& m = c.camera_to_world;
+    json camera = {
+        {"name", c.name},
+        {"projection", c.projection == Projection::perspective ? "perspective" : "orthographic"},
+        {"position", vector_json(V3d(m[3][0], m[3][1], m[3][2]))},
+        {"direction", vector_json(-V3d(m[2][0], m[2][1], m[2][2]).normalized())}};
+    if (c.projection == Projection::perspective)
+      camera["yfov_degrees"] = c.yfov * kDegreesPerRadian;
+    else
+      camera["xmag"] = c.xmag, camera["ymag"] = c.ymag;
+    cameras.push_back(camera);
+  }
+  out["cameras"] = cameras;
+  out["spheres"] = scene.spheres.size();
+  size_t morph_targets = 0;
+  if (root.is_object() && root.contains("meshes") && root["meshes"].is_array())
+    for (const auto& mesh : root["meshes"])
+      if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
+        for (const auto& p : mesh["primitives"]) morph_targets += array_size(p, "targets");
+  out["animations"] = array_size(root, "animations");
+  out["morph_targets"] = morph_targets;
+  out["skins"] = array_size(root, "skins");
+  out["extensions"] = {{"used", strings_json(root, "extensionsUsed")},
+                       {"required", strings_json(root, "extensionsRequired")}};
+  session->add_defaults();
+  out["features"] = {{"spheres", to_string(spheres)},
+                     {"set", to_string(derive_scene_features(scene, spheres))}};
+  out["warnings"] = scene.warnings;
+  if (o.timing || o.verbose) {
+    const Timing t = measure(session, spheres);
+    out["timing"] = {{"load_seconds", t.load_seconds},
+                     {"build_seconds", t.build_seconds},
+                     {"triangles_built", t.built.triangles},
+                     {"triangles_degenerate", t.built.degenerate_triangles},
+                     {"triangles_nonfinite", t.built.nonfinite_triangles},
+                     {"peak_memory_bytes", t.peak_bytes}};
+  }
+  return out;
+}
+
 int run(const InfoOptions& o) {
+  if (o.views) {
+    if (!o.quiet) print_views();
+    if (o.scene_path.empty()) return 0;
+  }
+  if (o.scene_path.empty()) throw UsageError("a scene file is required (or --views)");
   const SphereOptions spheres = parse_spheres_option(o.spheres, "--spheres");
   SphereDetectionFlags detection_flags = o.sphere_detection;
   detection_flags.replace = false;
@@ -267,9 +435,14 @@ int run(const InfoOptions& o) {
   // The file's own cameras and lights first; the defaults a render adds come after.
   request.add_defaults = false;
   Session session(request, session_options(scene_options));
+  if (o.quiet) return 0;
   const SceneDescription& scene = session.scene();
-  std::printf("file: %s\n", o.scene_path.c_str());
   const nlohmann::json root = read_gltf_json(o.scene_path);
+  if (o.json) {
+    std::printf("%s\n", info_json(o, &session, root, spheres).dump(2).c_str());
+    return 0;
+  }
+  std::printf("file: %s\n", o.scene_path.c_str());
   print_scenes(root, o);
   print_meshes(scene);
   print_materials(scene);
@@ -287,26 +460,17 @@ int run(const InfoOptions& o) {
               to_string(derive_scene_features(scene, spheres)).c_str());
   std::printf("warnings: %zu\n", scene.warnings.size());
   for (const std::string& w : scene.warnings) std::printf("  %s\n", w.c_str());
-  if (o.timing) {
-    // The render scene as `prism render` builds it (BVH, materials, textures). No ray
-    // follows, so the quality is the cheapest to build: MEDIUM, as LOW built no faster
-    // (docs/benchmarks.md).
-    RenderJob job;
-    job.spheres = spheres;
-    job.build_quality = BuildQuality::medium;
-    double build_seconds = 0.0;
-    const RenderScene& built = session.render_scene(job, &build_seconds);
-    struct rusage usage {};
-    getrusage(RUSAGE_SELF, &usage);
-    const size_t triangles = built.geometry().statistics().triangles;
-    const double peak_bytes = static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux: KiB
-    const double load_seconds = session.load_seconds();
+  if (o.timing || o.verbose) {
+    const Timing t = measure(&session, spheres);
+    const size_t triangles = t.built.triangles;
+    // Built and dropped add up to the meshes line's triangles as placed (analytic spheres).
     std::printf(
-        "timing: load %.3f s, BVH build %.3f s, total %.3f s; %s triangles; peak memory "
-        "%.1f MiB (%.0f bytes per triangle)\n",
-        load_seconds, build_seconds, load_seconds + build_seconds, with_commas(triangles).c_str(),
-        peak_bytes / (1024.0 * 1024.0),
-        triangles > 0 ? peak_bytes / static_cast<double>(triangles) : 0.0);
+        "timing: load %.3f s, BVH build %.3f s, total %.3f s; %s triangles built (%s degenerate "
+        "and %s non-finite dropped); peak memory %.1f MiB (%.0f bytes per triangle built)\n",
+        t.load_seconds, t.build_seconds, t.load_seconds + t.build_seconds,
+        with_commas(triangles).c_str(), with_commas(t.built.degenerate_triangles).c_str(),
+        with_commas(t.built.nonfinite_triangles).c_str(), t.peak_bytes / (1024.0 * 1024.0),
+        triangles > 0 ? t.peak_bytes / static_cast<double>(triangles) : 0.0);
   }
   return 0;
 }
@@ -316,7 +480,10 @@ int run(const InfoOptions& o) {
 CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
   CLI::App* cmd = app.add_subcommand(
       "info", "Print what a glTF file holds, its feature set and the loader's warnings");
-  cmd->add_option("scene", o->scene_path, "Scene file (.gltf or .glb)")->required();
+  cmd->add_option("scene", o->scene_path, "Scene file (.gltf or .glb)");
+  cmd->add_flag("--json", o->json, "Print it as one JSON object instead (docs/info.md)");
+  cmd->add_flag("--views", o->views,
+                "List the OCIO config's displays and views (render's --view), $OCIO's if set");
   cmd->add_option("--spheres", o->spheres,
                   "Sphere mode the feature set assumes: analytic | mesh[:LEVEL] | embree-points")
       ->capture_default_str();
@@ -326,6 +493,9 @@ CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
   add_scene_select_option(cmd, &o->scene);
   cmd->add_flag("--timing", o->timing,
                 "Also time loading and the BVH build, and report peak memory per triangle");
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose,
+                      "Print nothing but errors: the exit code says whether the file loads",
+                      "Everything, with --timing's line");
   return cmd;
 }
 

@@ -18,7 +18,12 @@ struct InfoOptions {
   SphereDetectionFlags sphere_detection;  // --sphere-tolerance for the sphere-shaped meshes
   std::string scene;                      // glTF scene name or index, empty = the file's default
   bool timing = false;                    // also time loading and the BVH build
-  double memory_limit_gib = 8.0;          // --memory-limit
+  bool views = false;
+  bool json = false;  // one JSON object (docs/info.md) instead of the text                     //
+                      // list the OCIO config's displays and views
+  double memory_limit_gib = 8.0;  // --memory-limit
+  bool quiet = false;             // print nothing: the exit code says if it loads
+  bool verbose = false;           // also --timing
 };
 
 // Adds the `info` subcommand to `app`, filling `options` when it is parsed.

@@ -9,10 +9,11 @@
 #include "apps/diff_command.h"
 #include "apps/info_command.h"
 #include "apps/render_command.h"
+#include "apps/usage.h"
 #include "renderer/version.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"prism: a CPU ray tracer for glTF scenes, built on Embree"};
+  CLI::App app{"prism: a CPU ray tracer for glTF scenes, built on Embree", "prism"};
   app.set_version_flag("--version", std::string("prism ") + prism::kVersion);
   app.require_subcommand(1);
   prism::RenderOptions render_options;
@@ -27,6 +28,8 @@ int main(int argc, char** argv) {
   CLI::App* batch = prism::add_batch_command(app, &batch_options);
   prism::BoidsOptions boids_options;
   CLI::App* boids = prism::add_boids_command(app, &boids_options);
+  std::string help_command;
+  CLI::App* help = prism::add_help_command(app, &help_command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -41,7 +44,8 @@ int main(int argc, char** argv) {
     return e.get_exit_code();  // the same, having printed its error
   } catch (const CLI::ParseError& e) {
     // Usage errors exit with 2, as most command-line tools do.
-    std::fprintf(stderr, "prism: error: %s (see prism %s--help)\n", e.what(),
+    std::fprintf(stderr, "prism: error: %s (see prism %s--help)\n",
+                 prism::describe_parse_error(app, e).c_str(),
                  render->parsed()    ? "render "
                  : diff->parsed()    ? "diff "
                  : compare->parsed() ? "compare "
@@ -60,5 +64,6 @@ int main(int argc, char** argv) {
   if (info->parsed()) return prism::run_info(info_options);
   if (batch->parsed()) return prism::run_batch(batch_options);
   if (boids->parsed()) return prism::run_boids(boids_options);
+  if (help->parsed()) return prism::run_help(app, help_command);
   return 2;
 }

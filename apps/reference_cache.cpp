@@ -62,10 +62,9 @@ std::string scene_fingerprint(const std::string& scene_path) {
 
 }  // namespace
 
-ReferenceKey reference_key(const std::string& scene_path, const SceneDescription& scene,
-                           const RenderJob& job, const RenderSettings& s,
-                           const ParameterValues& parameters, int camera_index) {
-  const CameraDescription& camera = scene.cameras.at(static_cast<size_t>(camera_index));
+ReferenceKey reference_key(const std::string& scene_path, const RenderJob& job,
+                           const RenderSettings& s, const ParameterValues& parameters,
+                           const CameraDescription& camera, int camera_index) {
   std::vector<double> camera_to_world;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) camera_to_world.push_back(camera.camera_to_world[r][c]);

@@ -25,9 +25,9 @@ struct ReferenceKey {
 // program version and every setting that changes the image: integrator and its parameters,
 // spp, resolution, the camera used, working space, background, sphere mode. Not the thread
 // count: the image is bit-identical whatever it is.
-ReferenceKey reference_key(const std::string& scene_path, const SceneDescription& scene,
-                           const RenderJob& job, const RenderSettings& film,
-                           const ParameterValues& parameters, int camera_index);
+ReferenceKey reference_key(const std::string& scene_path, const RenderJob& job,
+                           const RenderSettings& film, const ParameterValues& parameters,
+                           const CameraDescription& camera, int camera_index);
 
 // $XDG_CACHE_HOME/prism/references, or ~/.cache/prism/references. Throws UsageError when
 // neither XDG_CACHE_HOME nor HOME is set.

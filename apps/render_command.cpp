@@ -56,6 +56,19 @@ std::string shell_command(const std::vector<std::string>& argv) {
   return text;
 }
 
+// A view the config's display lacks is a usage error found before the render.
+void check_view(const ColourPipeline& colour, const std::string& view) {
+  if (view.empty()) return;
+  std::string names;
+  for (const DisplayView& v : colour.views()) {
+    if (v.display != colour.display()) continue;
+    if (v.view == view) return;
+    names += (names.empty() ? "" : ", ") + v.view;
+  }
+  throw UsageError("--view " + view + ": display '" + colour.display() + "' of OCIO config " +
+                   colour.config_source() + " has the views " + names);
+}
+
 }  // namespace
 
 RenderRequest render_request(const RenderOptions& o) {
@@ -63,6 +76,9 @@ RenderRequest render_request(const RenderOptions& o) {
   // Everything that needs no file first, so a typo costs nothing.
   RenderJob& job = r.job;
   job = base_job(o.scene);
+  if (o.integrator.find(',') != std::string::npos)
+    throw UsageError("--integrator " + o.integrator +
+                     ": render takes one integrator (prism compare takes a list)");
   job.integrator = parse_integrator_option(o.integrator, "--integrator").name;
   job.spheres = parse_spheres_option(o.spheres, "--spheres");
   job.build_quality = parse_choice<BuildQuality>(o.build_quality, "--build-quality");
@@ -79,9 +95,15 @@ RenderRequest render_request(const RenderOptions& o) {
                      ": must be a finite number of seconds >= 0");
   r.checkpoint_interval = o.checkpoint_interval;
   job.reference_path = o.reference_path;
-  r.files = OutputFiles{o.output_path, o.preview_path, o.sample_count_path,
-                        o.half ? ExrPixelType::half : ExrPixelType::float32,
-                        parse_choice<ExrCompression>(o.compression, "--compression")};
+  r.files.image = o.output_path;
+  r.files.preview = o.preview_path;
+  r.files.sample_counts = o.sample_count_path;
+  r.files.pixel_type = o.half ? ExrPixelType::half : ExrPixelType::float32;
+  r.files.compression = parse_choice<ExrCompression>(o.compression, "--compression");
+  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64.0)
+    throw UsageError("--exposure " + format_error(o.exposure) +
+                     ": must be a number of stops from -64 to 64");
+  r.files.display = {o.view, o.exposure};
   r.scene = scene_request(o.scene, o.sphere_detection);
   r.session = session_options(o.scene);
   return r;
@@ -93,7 +115,8 @@ int run(const RenderOptions& o) {
   const auto wall_start = std::chrono::steady_clock::now();
   const RenderRequest r = render_request(o);
   const RenderJob& job = r.job;
-  const OutputFiles& files = r.files;
+  OutputFiles files = r.files;
+  files.exr_only = false;  // a render's -o may be any format; a batch's stay EXR
   const SceneRequest& request = r.scene;
   check_output_files(files, o.scene.scene_path);
   const bool checkpoints = r.checkpoint_interval > 0.0;
@@ -105,29 +128,29 @@ int run(const RenderOptions& o) {
   Session session(request, options);
   // Every rank would say the same: rank 0 alone prints, and writes the files.
   const bool root = session.rank() == 0;
+  // Before the warnings: a job that cannot run is one line, not the scene's notes and then it.
+  session.check(job);
+  check_view(session.colour(job.working_space), files.display.view);
   if (root) {
     print_warnings(o.scene.scene_path, session.warnings());
     for (const std::string& line : session.sphere_detection_report())
       std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),
                    line.c_str());
   }
-  session.check(job);
   if (root) print_warnings(o.scene.scene_path, session.job_warnings(job));
   // Built before the render so that --verbose can describe it and the summary time it.
   double build_seconds = 0.0;
   const RenderScene& built = session.render_scene(job, &build_seconds);
   if (o.verbose && root) {
     const GeometryStatistics& stats = built.geometry().statistics();
-    const int camera = session.camera_index(job.camera);
     const RenderSettings film = session.film(job);
     std::fprintf(stderr,
                  "prism: %s: %zu triangles (%zu meshes baked, %zu instances), %zu spheres (%s), "
                  "%zu lights, camera '%s', %dx%d, %d spp, loaded and built in %.3f s\n",
                  o.scene.scene_path.c_str(), stats.triangles, stats.meshes_baked,
                  stats.mesh_instances, stats.spheres, to_string(job.spheres).c_str(),
-                 built.lights().size(),
-                 session.scene().cameras[static_cast<size_t>(camera)].name.c_str(), film.width,
-                 film.height, film.spp, session.load_seconds() + build_seconds);
+                 built.lights().size(), session.camera(job).name.c_str(), film.width, film.height,
+                 film.spp, session.load_seconds() + build_seconds);
     std::fprintf(stderr, "prism: features: %s\n", to_string(built.features()).c_str());
   }
 
@@ -240,7 +263,10 @@ int run(const RenderOptions& o) {
                  "prism: --time-limit %g s reached after round %d (%.4g spp mean); the image "
                  "depends on this machine's speed\n",
                  out.film.time_limit_seconds, result.rounds, result.mean_spp(out.film));
+  // A large image takes a while to write: the line says so rather than sitting still.
+  progress.phase("writing " + o.output_path);
   write_output_files(files, out, session.colour(job.working_space), session.threads());
+  progress.finish();
   // The image is on disk: the checkpoint has nothing left to continue.
   if (checkpoints) {
     std::error_code remove_error;
@@ -278,13 +304,17 @@ int run(const RenderOptions& o) {
 CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene to an EXR image");
   add_scene_options(cmd, &o->scene);
-  cmd->add_option("-o,--output", o->output_path, "Output image (.exr), scene-linear")->required();
+  cmd->add_option("-o,--output", o->output_path,
+                  "Output image, its format by the extension: .exr (scene-linear, the master "
+                  "with metadata), .tif/.tiff/.hdr (scene-linear), .png/.jpg/.jpeg "
+                  "(display-referred through --view)")
+      ->required();
   std::string integrators;
   for (const IntegratorInfo* info : integrator_registry())
     integrators += std::string(integrators.empty() ? "" : "; ") + info->name + ": " + info->summary;
   cmd->add_option("--integrator", o->integrator, integrators)->capture_default_str();
   cmd->add_option("--spp", o->spp, "Samples per pixel (1 = through pixel centres)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
   cmd->add_option("--target-error", o->target_error,
                   "Adaptive sampling: a pixel stops once the estimated relative error of its "
@@ -298,13 +328,20 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   cmd->add_option("--min-spp", o->min_spp,
                   "Adaptive sampling: samples every pixel takes before the first decision (a "
                   "power of two)")
-      ->check(CLI::Range(1, 1 << 16))
+      ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
   cmd->add_option("--sample-count-image", o->sample_count_path,
                   "Also write each pixel's number of samples (R = G = B) to this EXR");
   cmd->add_option("--spheres", o->spheres, "analytic | mesh[:LEVEL] | embree-points")
       ->capture_default_str();
   cmd->add_option("--preview", o->preview_path, "Also write a display-referred PNG preview");
+  cmd->add_option("--view", o->view,
+                  "OCIO view of the PNG and JPEG outputs (default: Standard; 'ACES 1.0 "
+                  "SDR-video' rolls highlights off; prism info --views lists them)");
+  cmd->add_option("--exposure", o->exposure,
+                  "Stops by which the PNG and JPEG outputs are brightened (negative: darkened) "
+                  "before the view")
+      ->capture_default_str();
   cmd->add_option("--reference", o->reference_path,
                   "Render one sample per pixel per pass and log each pass's RMSE and relMSE "
                   "(mean of (a-b)^2/(b^2+0.01)) against this EXR on stderr; they also go into the "
@@ -315,22 +352,25 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                       " (docs/benchmarks.md, \"EXR writing\": none and rle write fastest, "
                       "piz and zip smallest)")
       ->capture_default_str();
-  cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)");
+  cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)")
+      ->group(kDeveloperGroup);
   cmd->add_option("--build-quality", o->build_quality,
                   "BVH build quality: " + enum_choices<BuildQuality>(" | ") +
                       " (slower to build, faster to trace)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(kDeveloperGroup);
   add_sphere_detection_options(cmd, &o->sphere_detection, true);
   cmd->add_flag("--general-path", o->general_path,
                 "Run the integrators' general code, not the one specialised on the scene's "
-                "features (same image; for tests and benchmarks)");
+                "features (same image; for tests and benchmarks)")
+      ->group(kDeveloperGroup);
   cmd->add_option("--checkpoint-interval", o->checkpoint_interval,
                   "Seconds: save the render's state to OUTPUT.checkpoint this often, and on "
                   "SIGTERM or SIGUSR1 save it and stop (exit 128 + signal); running the same "
                   "command again continues it, bit-identically (0 = off)")
       ->capture_default_str();
-  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar and no summary");
-  cmd->add_flag("-v,--verbose", o->verbose, "Describe the scene before rendering");
+  add_verbosity_flags(cmd, &o->quiet, &o->verbose, "No progress bar and no summary",
+                      "Describe the scene before rendering");
   return cmd;
 }
 

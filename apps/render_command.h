@@ -15,6 +15,8 @@ struct RenderOptions {
   SceneOptions scene;
   std::string output_path;
   std::string preview_path;
+  std::string view;       // OCIO view of the display-referred outputs; empty = Standard
+  double exposure = 0.0;  // stops, display-referred outputs only
   std::string integrator = "whitted";
   int spp = 1;
   // Adaptive sampling (docs/sampling.md): 0 = off; with either, spp is the maximum.
@@ -41,8 +43,8 @@ struct RenderOptions {
 
 // What a `prism render` command line asks for, checked (UsageError or RequestError naming the
 // option): the scene to load, the session, the job and its files (their paths are not
-// checked here: a batch's may still hold placeholders; check_output_files does). `prism batch` turns each
-// job of a job file into the same, so both accept and refuse exactly the same options.
+// checked here: a batch's may still hold placeholders; check_output_files does). `prism batch`
+// turns each job of a job file into the same, so both accept and refuse exactly the same options.
 struct RenderRequest {
   SceneRequest scene;
   SessionOptions session;

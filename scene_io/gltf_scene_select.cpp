@@ -25,14 +25,17 @@ std::size_t select_scene(const std::vector<std::string>& names, const std::strin
   std::string listed;
   for (std::size_t i = 0; i < count && i < 10; ++i) {
     const std::string& name = names[i];
-    listed +=
-        (i ? ", " : "") + std::to_string(i) +
-        (name.empty() ? "" : " '" + (name.size() > 40 ? name.substr(0, 40) + "..." : name) + "'");
+    listed += (i ? ", " : "") + std::to_string(i) +
+              (name.empty() ? " (unnamed)"
+                            : " '" + (name.size() > 40 ? name.substr(0, 40) + "..." : name) + "'");
   }
   if (count > 10) listed += ", ...";
   const std::string shown = wanted.size() > 40 ? wanted.substr(0, 40) + "..." : wanted;
-  throw SceneSelectionError(one_line(file + ": scenes: no scene '" + shown + "' (the file has " +
-                                     std::to_string(count) + ": " + listed + ")"));
+  // What is allowed too: a name, or an index in range (an unnamed scene has only its index).
+  throw SceneSelectionError(
+      one_line(file + ": scenes: no scene '" + shown + "' (the file has " + std::to_string(count) +
+               (count == 1 ? " scene: " : " scenes: ") + listed + "; give a name or an index " +
+               (count == 1 ? "0" : "from 0 to " + std::to_string(count - 1)) + ")"));
 }
 
 }  // namespace prism::gltf_detail

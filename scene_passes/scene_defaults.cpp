@@ -6,7 +6,6 @@
 #include <string>
 
 namespace prism {
-namespace {
 
 M44d look_at(const V3d& eye, const V3d& target, const V3d& world_up) {
   const V3d back = (eye - target).normalized();  // the camera looks down its -Z
@@ -17,8 +16,6 @@ M44d look_at(const V3d& eye, const V3d& target, const V3d& world_up) {
   return M44d(right.x, right.y, right.z, 0, up.x, up.y, up.z, 0, back.x, back.y, back.z, 0, eye.x,
               eye.y, eye.z, 1);
 }
-
-}  // namespace
 
 Imath::Box3d world_bounds(const SceneDescription& scene) {
   Imath::Box3d box;
@@ -70,21 +67,25 @@ bool has_emissive_geometry(const SceneDescription& scene) {
   return false;
 }
 
+CameraDescription framing_camera(const SceneDescription& scene, const std::string& name) {
+  Imath::Box3d box = world_bounds(scene);
+  if (box.isEmpty()) box = Imath::Box3d(V3d(-1.0), V3d(1.0));
+  const V3d centre = box.center();
+  const double radius = std::max(0.5 * box.size().length(), 1e-6);
+  CameraDescription camera;
+  camera.name = name;
+  camera.yfov = 0.8;
+  // Far enough that the bounding sphere fits the vertical field of view, with a margin.
+  const double distance = 1.1 * radius / std::sin(0.5 * camera.yfov);
+  const V3d eye = centre + V3d(0.35, 0.3, 1.0).normalized() * distance;
+  camera.camera_to_world = look_at(eye, centre, V3d(0, 1, 0));
+  camera.znear = distance * 1e-4;
+  return camera;
+}
+
 void add_scene_defaults(SceneDescription* scene) {
   if (scene->cameras.empty()) {
-    Imath::Box3d box = world_bounds(*scene);
-    if (box.isEmpty()) box = Imath::Box3d(V3d(-1.0), V3d(1.0));
-    const V3d centre = box.center();
-    const double radius = std::max(0.5 * box.size().length(), 1e-6);
-    CameraDescription camera;
-    camera.name = "default";
-    camera.yfov = 0.8;
-    // Far enough that the bounding sphere fits the vertical field of view, with a margin.
-    const double distance = 1.1 * radius / std::sin(0.5 * camera.yfov);
-    const V3d eye = centre + V3d(0.35, 0.3, 1.0).normalized() * distance;
-    camera.camera_to_world = look_at(eye, centre, V3d(0, 1, 0));
-    camera.znear = distance * 1e-4;
-    scene->cameras.push_back(camera);
+    scene->cameras.push_back(framing_camera(*scene, "default"));
     scene->warnings.push_back(
         "the scene has no camera: using a default perspective camera that frames the whole scene");
   }

@@ -15,6 +15,14 @@ Imath::Box3d world_bounds(const SceneDescription& scene);
 // scene is lit by its own surfaces even without a punctual light.
 bool has_emissive_geometry(const SceneDescription& scene);
 
+// The camera-to-world matrix of a camera at `eye` looking at `target` (its -Z), with +Y as
+// near `world_up` as can be; the right vector is +X when `world_up` is along the view.
+M44d look_at(const V3d& eye, const V3d& target, const V3d& world_up);
+
+// A perspective camera (yfov 0.8 rad) named `name`, looking at the centre of the scene's
+// bounds from the front (+Z), a little above and to the right, far enough to see all of them.
+CameraDescription framing_camera(const SceneDescription& scene, const std::string& name);
+
 // With no camera: a perspective camera (yfov 0.8 rad) looking at the centre of the bounds
 // from the front (+Z), a little above and to the right, far enough to see all of them.
 // With no light and no emissive geometry, lighting relative to the first camera (the one a

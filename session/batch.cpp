@@ -78,7 +78,7 @@ void describe(const BatchJob& job, JobRecord* record) {
   record->scene = job.spec.scene.path;
   record->camera = job.camera_label;
   record->integrator = job.spec.render.integrator;
-  record->output = job.files.exr;
+  record->output = job.files.image;
   record->spp = job.spec.render.film.spp;
   if (record->width == 0) {
     record->width = job.spec.render.width;
@@ -196,7 +196,7 @@ const std::vector<BatchJob>& Batch::plan() {
           {"spp", std::to_string(spec.render.film.spp)},
           {"job", file_name_part(spec.name)}};
       const std::string where = job.label();
-      job.files.exr = substitute(spec.outputs.exr, values, where + ": output");
+      job.files.image = substitute(spec.outputs.exr, values, where + ": output");
       if (!spec.outputs.preview.empty())
         job.files.preview = substitute(spec.outputs.preview, values, where + ": preview");
       if (!spec.outputs.sample_counts.empty())
@@ -204,7 +204,7 @@ const std::vector<BatchJob>& Batch::plan() {
             substitute(spec.outputs.sample_counts, values, where + ": sample-count-image");
       job.files.pixel_type = spec.pixel_type;
       for (const std::string* path :
-           {&job.files.exr, &job.files.preview, &job.files.sample_counts}) {
+           {&job.files.image, &job.files.preview, &job.files.sample_counts}) {
         if (path->empty()) continue;
         const auto [it, added] = written.emplace(same_file_key(*path), where);
         if (!added)
@@ -258,8 +258,8 @@ std::string Batch::fingerprint(const BatchJob& job, const std::vector<InputFile>
 }
 
 bool Batch::up_to_date(const BatchJob& job) {
-  const std::optional<std::string> stored = read_exr_attribute(job.files.exr, "jobFingerprint");
-  const std::optional<std::string> inputs_text = read_exr_attribute(job.files.exr, "jobInputs");
+  const std::optional<std::string> stored = read_exr_attribute(job.files.image, "jobFingerprint");
+  const std::optional<std::string> inputs_text = read_exr_attribute(job.files.image, "jobInputs");
   if (!stored || !inputs_text) return false;
   std::vector<InputFile> recorded;
   if (!parse_inputs(*inputs_text, &recorded) || recorded.empty()) return false;
@@ -367,7 +367,7 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
   if (callbacks.abandon) job_callbacks.cancel = callbacks.abandon;
   const double interval = job.spec.checkpoint_interval > 0.0 ? job.spec.checkpoint_interval
                                                              : options_.checkpoint_interval;
-  const std::string checkpoint = checkpoint_path(job.files.exr);
+  const std::string checkpoint = checkpoint_path(job.files.image);
   std::optional<RenderState> resume;
   auto last_save = Clock::now();
   std::string save_error;
@@ -452,7 +452,7 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
         write_output_files(p->files, p->output, *p->colour, 1);
         // The image is on disk: its checkpoint has nothing left to continue.
         std::error_code ignored;
-        fs::remove(checkpoint_path(p->files.exr), ignored);
+        fs::remove(checkpoint_path(p->files.image), ignored);
       } catch (const std::exception& e) {
         p->error = e.what();
       }

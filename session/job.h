@@ -88,10 +88,21 @@ struct EnvironmentRequest {
   bool hidden = false;
 };
 
+// Moves a camera: each field left out keeps the camera's own (a new eye alone keeps the
+// direction of view; `up` is +Y unless given).
+struct CameraPlacement {
+  std::optional<V3d> look_from, look_at, up;
+  std::optional<double> yfov_degrees;  // perspective cameras only, above 0 and below 180
+};
+
 struct RenderJob {
   std::string integrator = "whitted";       // a name in integrators/registry.h
   ParameterSettings integrator_parameters;  // any subset of its parameter table
   std::string camera;                       // by name or index; empty = the first
+  // A camera that frames the scene's bounds as the default camera does, even when the file
+  // has cameras (`camera` must then be empty).
+  bool frame_scene = false;
+  std::optional<CameraPlacement> placement;  // moves the camera chosen
   // Explicit image size, or (0, 0): 640 x 480, or 480 high at the camera's aspect ratio
   // (an orthographic camera's xmag / ymag).
   int width = 0, height = 0;

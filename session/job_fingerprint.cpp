@@ -80,6 +80,17 @@ std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
   line("integrator", job.integrator);
   for (const auto& [name, value] : job.integrator_parameters) line(name.c_str(), number(value));
   line("camera", job.camera);
+  // Only when given, so that the fingerprints of jobs without them stay as they were.
+  if (job.frame_scene) line("camera-auto", "1");
+  if (job.placement) {
+    const auto vector = [&](const char* key, const std::optional<V3d>& v) {
+      if (v) line(key, number(v->x) + "," + number(v->y) + "," + number(v->z));
+    };
+    vector("look-from", job.placement->look_from);
+    vector("look-at", job.placement->look_at);
+    vector("up", job.placement->up);
+    if (job.placement->yfov_degrees) line("fov", number(*job.placement->yfov_degrees));
+  }
   line("res", std::to_string(job.width) + "x" + std::to_string(job.height));
   line("spp", std::to_string(job.film.spp));
   line("target-error", number(job.film.target_error));

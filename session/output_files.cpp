@@ -1,8 +1,15 @@
 #include "session/output_files.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
+
+#include "renderer/temporary_files.h"
 
 namespace prism {
 namespace {
@@ -22,13 +29,28 @@ bool same_file(const std::string& a, const std::string& b) {
   return fs::weakly_canonical(a, error) == fs::weakly_canonical(b, error);
 }
 
+// A file that cannot be created there is found now, not after the render: one is made and
+// removed at once, under the name the write's own temporary would have.
+void check_writable(const std::string& path, const char* field) {
+  const fs::path parent = fs::path(path).parent_path();
+  const fs::path probe = (parent.empty() ? fs::path(".") : parent) / temporary_name(path);
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) throw RequestError(field, path + ": cannot be written: " + std::strerror(errno));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
 void check_path(const std::string& path, const char* extension, const char* field) {
-  if (!has_extension(path, extension))
+  if (extension && !has_extension(path, extension))
     throw RequestError(field, path + ": the file name must end in " + extension);
+  ImageFormat format{};
+  if (!extension && !image_format_for_path(path, &format))
+    throw RequestError(field, path + ": the file name must end in " + kImageExtensions);
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty() && !fs::is_directory(parent))
     throw RequestError(field, path + ": directory " + parent.string() + " does not exist");
   if (fs::is_directory(path)) throw RequestError(field, path + ": is a directory");
+  check_writable(path, field);
 }
 
 }  // namespace
@@ -39,7 +61,7 @@ void check_output_files(const OutputFiles& files, const std::string& scene_path)
     const char* extension;
     const char* field;
   };
-  const Named outputs[] = {{&files.exr, ".exr", "output"},
+  const Named outputs[] = {{&files.image, files.exr_only ? ".exr" : nullptr, "output"},
                            {&files.preview, ".png", "preview"},
                            {&files.sample_counts, ".exr", "sample-count-image"}};
   for (size_t i = 0; i < std::size(outputs); ++i) {
@@ -70,12 +92,16 @@ void write_output_files(const OutputFiles& files, const RenderOutput& output,
                         const ColourPipeline& colour, int threads) {
   // The master last: once it exists, so do the others, and a batch that finds it (with its
   // job's fingerprint) after a kill may skip the job.
-  if (!files.preview.empty()) write_png_preview(files.preview, output.image, colour);
+  if (!files.preview.empty()) write_png_preview(files.preview, output.image, colour, files.display);
   if (!files.sample_counts.empty())
     write_exr(files.sample_counts, sample_count_image(output), colour, output.metadata,
               {ExrPixelType::float32, files.compression, threads});
-  write_exr(files.exr, output.image, colour, output.metadata,
-            {files.pixel_type, files.compression, threads});
+  ImageFormat format = ImageFormat::exr;
+  if (!image_format_for_path(files.image, &format) || format == ImageFormat::exr)
+    write_exr(files.image, output.image, colour, output.metadata,
+              {files.pixel_type, files.compression, threads});
+  else
+    write_image(files.image, format, output.image, colour, files.display);
 }
 
 }  // namespace prism

@@ -1,5 +1,6 @@
-// The files a render writes: the scene-linear EXR master, an optional display-referred PNG
-// preview and an optional sample-count EXR. Checked before the scene is loaded, so a typo in
+// The files a render writes: the image (the scene-linear EXR master, or by its extension
+// TIFF or HDR, scene-linear, or PNG or JPEG, display-referred), an optional display-referred
+// PNG preview and an optional sample-count EXR. Checked before the scene is loaded, so a typo in
 // a path costs nothing and overwrites nothing; written through temporaries renamed into
 // place (renderer/image/image_output.h), so nothing is ever half-written.
 #pragma once
@@ -13,7 +14,11 @@
 namespace prism {
 
 struct OutputFiles {
-  std::string exr;            // required
+  std::string image;  // required
+  // A batch's images are EXR: their metadata tells it whether they are up to date. A render
+  // may write any ImageFormat, by the extension.
+  bool exr_only = true;
+  DisplayOptions display;     // the view and exposure of the PNG and JPEG outputs
   std::string preview;        // .png, or empty
   std::string sample_counts;  // .exr of each pixel's sample count (R = G = B), or empty
   ExrPixelType pixel_type = ExrPixelType::float32;
@@ -21,8 +26,9 @@ struct OutputFiles {
 };
 
 // Throws RequestError naming the field ("output", "preview", "sample-count-image") when a
-// path has the wrong extension, names a directory, sits in a directory that does not exist,
-// is the scene file itself or is another output of the same render.
+// path has the wrong extension, names a directory, sits in a directory that does not exist
+// or where no file can be created (tried with a temporary file, removed at once), is the scene
+// file itself or is another output of the same render.
 void check_output_files(const OutputFiles& files, const std::string& scene_path);
 
 // Each pixel's sample count as grey (R = G = B), alpha 1.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <numbers>
 
 #include "distributed/frame_split.h"
 #include "renderer/camera.h"
@@ -121,8 +122,9 @@ Session::Session(const SceneRequest& request, const SessionOptions& options)
     try {
       scene_ = load_gltf(request.path, load);
     } catch (const SceneSelectionError& e) {
-      throw RequestError("scene", e.what());
+      throw RequestError("scene", request.scene + ": " + e.what());
     }
+    file_cameras_ = scene_.cameras.size();
     if (request.add_defaults) add_defaults();
     if (request.detect_spheres) {
       const std::vector<SphereCandidate> candidates =
@@ -170,6 +172,54 @@ int Session::camera_index(const std::string& wanted) {
   return find_camera(wanted);
 }
 
+CameraDescription Session::camera(const RenderJob& job) {
+  add_defaults();
+  int index = 0;
+  return placed_camera(job, &index);
+}
+
+CameraDescription Session::placed_camera(const RenderJob& job, int* index) const {
+  if (job.frame_scene && !job.camera.empty())
+    throw RequestError("camera", job.camera +
+                                     ": a file's camera or the one framing the scene, "
+                                     "not both");
+  *index = job.frame_scene ? -1 : find_camera(job.camera);
+  CameraDescription camera = job.frame_scene ? framing_camera(scene_, "auto")
+                                             : scene_.cameras[static_cast<size_t>(*index)];
+  if (!job.placement) return camera;
+  const CameraPlacement& place = *job.placement;
+  const M44d& m = camera.camera_to_world;
+  const V3d position(m[3][0], m[3][1], m[3][2]);
+  const V3d forward = -V3d(m[2][0], m[2][1], m[2][2]).normalized();
+  const V3d eye = place.look_from.value_or(position);
+  const V3d target = place.look_at ? *place.look_at : eye + forward;
+  const V3d up = place.up.value_or(V3d(0, 1, 0));
+  const V3d view = target - eye;
+  const auto text = [](const V3d& v) {
+    return format_number(v.x) + "," + format_number(v.y) + "," + format_number(v.z);
+  };
+  if (!(view.length() > 0.0))
+    throw RequestError("look-at", text(target) +
+                                      ": is where the camera stands; look at another "
+                                      "point");
+  if (!(up.length() > 0.0)) throw RequestError("up", "0,0,0: has no direction");
+  if (view.normalized().cross(up.normalized()).length() < 1e-6)
+    throw RequestError("up", text(up) + ": is along the direction of view; give another --up");
+  camera.camera_to_world = look_at(eye, target, up);
+  if (place.yfov_degrees) {
+    const double degrees = *place.yfov_degrees;
+    if (camera.projection != Projection::perspective)
+      throw RequestError("fov", "camera '" + camera.name +
+                                    "' is orthographic: it has no field "
+                                    "of view");
+    if (!(degrees > 0.0 && degrees < 180.0))
+      throw RequestError("fov", format_number(degrees) + ": must be above 0 and below 180 degrees");
+    camera.yfov = degrees * std::numbers::pi / 180.0;
+  }
+  if (!job.frame_scene) camera.name += " (moved)";
+  return camera;
+}
+
 int Session::find_camera(const std::string& wanted) const {
   if (wanted.empty()) return 0;
   for (size_t i = 0; i < scene_.cameras.size(); ++i)
@@ -179,11 +229,19 @@ int Session::find_camera(const std::string& wanted) const {
   if (end != wanted.c_str() && *end == '\0' && index >= 0 &&
       index < static_cast<long>(scene_.cameras.size()))
     return static_cast<int>(index);
+  // The default camera (the last, when added) is not the file's: it cannot be asked for.
+  if (file_cameras_ == 0)
+    throw RequestError("camera", wanted + ": " + scene_.source_path +
+                                     " has no cameras; leave --camera out for the default one "
+                                     "that frames the scene, or use --camera auto");
   std::string names;
-  for (size_t i = 0; i < scene_.cameras.size(); ++i)
-    names += (i ? ", " : "") + std::to_string(i) + " '" + scene_.cameras[i].name + "'";
-  throw RequestError(
-      "camera", wanted + ": " + scene_.source_path + " has no such camera (it has " + names + ")");
+  for (size_t i = 0; i < file_cameras_; ++i)
+    names += (i ? ", " : "") + std::to_string(i) +
+             (scene_.cameras[i].name.empty() ? " (unnamed)" : " '" + scene_.cameras[i].name + "'");
+  throw RequestError("camera", wanted + ": " + scene_.source_path + " has no such camera; it has " +
+                                   std::to_string(file_cameras_) +
+                                   (file_cameras_ == 1 ? " camera: " : " cameras: ") + names +
+                                   " (a name or an index), or use auto");
 }
 
 namespace {
@@ -240,8 +298,8 @@ Session::Plan Session::plan(const RenderJob& job) const {
       throw RequestError("time-limit", format_number(job.film.time_limit_seconds) + refused);
     if (!job.reference_path.empty()) throw RequestError("reference", job.reference_path + refused);
   }
-  p.camera = find_camera(job.camera);
-  p.film = film_for(job, p.camera, &p.warnings);
+  p.camera_description = placed_camera(job, &p.camera);
+  p.film = film_for(job, p.camera_description, &p.warnings);
   const uint64_t bytes = film_bytes(p.film, !job.reference_path.empty());
   if (bytes > options_.memory_budget_bytes)
     throw RequestError(
@@ -256,13 +314,13 @@ Session::Plan Session::plan(const RenderJob& job) const {
 std::vector<std::string> Session::job_warnings(const RenderJob& job) {
   add_defaults();
   std::vector<std::string> warnings;
-  film_for(job, find_camera(job.camera), &warnings);
+  int index = 0;
+  film_for(job, placed_camera(job, &index), &warnings);
   return warnings;
 }
 
-RenderSettings Session::film_for(const RenderJob& job, int camera_index,
+RenderSettings Session::film_for(const RenderJob& job, const CameraDescription& camera,
                                  std::vector<std::string>* warnings) const {
-  const CameraDescription& camera = scene_.cameras[static_cast<size_t>(camera_index)];
   RenderSettings film = job.film;
   if (job.width > 0 || job.height > 0) {
     if (job.width < 1 || job.height < 1 || job.width > kMaxImageSide || job.height > kMaxImageSide)
@@ -382,14 +440,19 @@ void Session::check(const RenderJob& job) {
 const RenderScene& Session::render_scene(const RenderJob& job, double* build_seconds) {
   // Rebased per scene, or per camera for a scene too large to share one origin
   // (rebasing_origin): jobs from every camera of a small scene share one build.
-  const int camera = camera_index(job.camera);
-  const V3d origin = rebasing_origin(scene_, scene_.cameras[static_cast<size_t>(camera)]);
+  const CameraDescription view = camera(job);
+  const V3d origin = rebasing_origin(scene_, view);
   const Environment& sky = environment(job);
-  // The default key light stands over the shoulder of whichever camera renders.
-  if (scene_.default_lighting)
-    scene_.lights = {default_key_light(scene_.cameras[static_cast<size_t>(camera)])};
+  // The default key light stands over the shoulder of whichever camera renders (moved by
+  // --look-from or framing the scene as it may be), so the scene is rebuilt when it turns.
+  std::array<double, 3> key_light{0.0, 0.0, 0.0};
+  if (scene_.default_lighting) {
+    scene_.lights = {default_key_light(view)};
+    const V3d& d = scene_.lights.front().direction;
+    key_light = {d.x, d.y, d.z};
+  }
   auto key = std::make_tuple(to_string(job.spheres), job.robust, job.build_quality,
-                             job.working_space, scene_.default_lighting ? camera : -1,
+                             job.working_space, key_light,
                              std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
   if (built_.scene && built_.key == key) {
@@ -430,14 +493,13 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
   out.film = p.film;
   out.warnings = p.warnings;
   out.camera_index = p.camera;
-  out.camera_name = scene_.cameras[static_cast<size_t>(p.camera)].name;
+  out.camera_name = p.camera_description.name;
   const RenderScene& built = render_scene(job, &out.build_seconds);
   out.geometry = built.geometry().statistics();
   out.features = built.features();
   out.lights = built.lights().size();
   const std::unique_ptr<Integrator> integrator = p.integrator->make(p.parameters);
-  const Camera camera =
-      built.camera(scene_.cameras[static_cast<size_t>(p.camera)], p.film.width, p.film.height);
+  const Camera camera = built.camera(p.camera_description, p.film.width, p.film.height);
 
   RenderCallbacks render_callbacks;
   render_callbacks.progress = callbacks.progress;
@@ -492,7 +554,10 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Came
   m.world_to_camera = camera.world_to_camera();
   m.world_to_ndc = camera.world_to_ndc();
   m.scene_path = request_.path;
+  const M44d& placed = p.camera_description.camera_to_world;
   m.extra = {{"camera", out.camera_name},
+             {"cameraPosition", format_number(placed[3][0]) + "," + format_number(placed[3][1]) +
+                                    "," + format_number(placed[3][2])},
              {"spheres", to_string(job.spheres)},
              {"buildQuality", to_string(job.build_quality)},
              {"brdf", to_string(job.brdf)},

@@ -83,6 +83,12 @@ class Session {
   std::vector<std::string> job_warnings(const RenderJob& job);
   // The index of the camera `job.camera` names (RequestError "camera" if none).
   int camera_index(const std::string& camera);
+  // The camera `job` renders from: the file's (or the default) it names, or the one framing
+  // the scene (`frame_scene`), moved by its placement. RequestError naming the option
+  // ("camera", "look-at", "up", "fov") when it cannot be.
+  CameraDescription camera(const RenderJob& job);
+  // Cameras the file itself holds (the default camera comes after them).
+  size_t file_cameras() const { return file_cameras_; }
   // The render scene a job with these choices renders, built on first use and kept until a
   // job needs other choices (one at a time: two BVHs would double the peak memory).
   // `build_seconds` receives the time spent building it now (0 when reused).
@@ -112,15 +118,17 @@ class Session {
   struct Plan {
     const IntegratorInfo* integrator = nullptr;
     ParameterValues parameters;
-    int camera = 0;
+    int camera = 0;  // the file's camera the job names; -1 for one framing the scene
+    CameraDescription camera_description;  // as placed
     RenderSettings film;
     std::vector<std::string> warnings;  // RenderOutput::warnings
   };
   Plan plan(const RenderJob& job) const;
   int find_camera(const std::string& camera) const;
-  // The film of `job` from `camera_index`: the job's resolution or the camera's default,
-  // with the warnings it gives.
-  RenderSettings film_for(const RenderJob& job, int camera_index,
+  CameraDescription placed_camera(const RenderJob& job, int* index) const;
+  // The film of `job` from `camera`: the job's resolution or the camera's default, with the
+  // warnings it gives.
+  RenderSettings film_for(const RenderJob& job, const CameraDescription& camera,
                           std::vector<std::string>* warnings) const;
   RenderMetadata metadata(const RenderJob& job, const Plan& plan, const Camera& camera,
                           const RenderOutput& output) const;
@@ -131,6 +139,7 @@ class Session {
   SceneDescription scene_;
   std::vector<std::string> sphere_report_;
   bool defaults_added_ = false;
+  size_t file_cameras_ = 0;
   double load_seconds_ = 0.0;
   std::shared_ptr<tbb::task_arena> arena_;
   // One Embree device for every render scene the session builds.
@@ -138,7 +147,8 @@ class Session {
   std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
   // The render scene kept, with the choices it was built for.
   struct BuiltScene {
-    std::tuple<std::string, bool, BuildQuality, WorkingSpace, int, std::array<double, 3>, BrdfModel>
+    std::tuple<std::string, bool, BuildQuality, WorkingSpace, std::array<double, 3>,
+               std::array<double, 3>, BrdfModel>
         key;
     std::unique_ptr<RenderScene> scene;
   };

@@ -233,11 +233,11 @@ TEST_F(BatchPlan, SubstitutesEveryPlaceholder) {
   const std::vector<BatchJob>& jobs = batch.plan();
   ASSERT_EQ(jobs.size(), 2u);
   // The job's slash becomes '_': a name cannot reach another folder.
-  EXPECT_EQ(jobs[0].files.exr, (dir_ / "spheres-default-shadow-7-my_job_x.exr").string());
+  EXPECT_EQ(jobs[0].files.image, (dir_ / "spheres-default-shadow-7-my_job_x.exr").string());
   EXPECT_EQ(jobs[0].files.preview, (dir_ / "my_job_x.png").string());
   EXPECT_EQ(jobs[0].files.sample_counts, (dir_ / "spheres-counts.exr").string());
   EXPECT_EQ(jobs[0].camera_label, "default");
-  EXPECT_EQ(jobs[1].files.exr, (dir_ / "whitted-main.exr").string());
+  EXPECT_EQ(jobs[1].files.image, (dir_ / "whitted-main.exr").string());
   EXPECT_EQ(jobs[1].camera_label, "main");
   EXPECT_EQ(jobs[0].index, 0);
   EXPECT_EQ(jobs[1].index, 1);
@@ -254,8 +254,8 @@ TEST_F(BatchPlan, EveryCameraExpandsIntoOneRenderPerCamera) {
   ASSERT_EQ(jobs.size(), 2u);
   EXPECT_EQ(jobs[0].spec.render.camera, "0");
   EXPECT_EQ(jobs[1].spec.render.camera, "1");
-  EXPECT_EQ(jobs[0].files.exr, (dir_ / "cameras_0_.exr").string());
-  EXPECT_EQ(jobs[1].files.exr, (dir_ / "cameras_1_.exr").string());
+  EXPECT_EQ(jobs[0].files.image, (dir_ / "cameras_0_.exr").string());
+  EXPECT_EQ(jobs[1].files.image, (dir_ / "cameras_1_.exr").string());
   EXPECT_EQ(jobs[1].label(), "jobs[0] 'all' (camera cameras_1_)");
 
   BatchJobSpec same = spec("same", "one.exr", cameras);

@@ -247,6 +247,36 @@ TEST(ColourPipeline, Rec709OutOfRangeClampsPerChannel) {
   EXPECT_NEAR(display.pixel(0, 0)[2], 0.04045, 1e-6);
 }
 
+// The ACES 1.0 SDR-video view rolls highlights off: brighter scene values stay brighter on
+// the display, all below white, where Standard clips everything from 1 up. Mid grey lands
+// near the ACES reference's 0.18 -> about 0.39 (sRGB-encoded, after the RRT's contrast).
+TEST(ColourPipeline, AcesViewRollsHighlightsOffWhereStandardClips) {
+  ScopedOcioEnv env(nullptr);
+  ColourPipeline colour(WorkingSpace::linear_rec709);
+  const float values[] = {0.18f, 1.0f, 4.0f, 16.0f};
+  Image image(4, 1);
+  for (int i = 0; i < 4; ++i)
+    for (int c = 0; c < 3; ++c) image.pixel(i, 0)[c] = values[i];
+  const Image aces = colour.working_to_display(image, {"ACES 1.0 SDR-video", 0.0});
+  const Image standard = colour.working_to_display(image, {"Standard", 0.0});
+  EXPECT_NEAR(aces.pixel(0, 0)[1], 0.39, 0.05);
+  for (int i = 1; i < 4; ++i) {
+    EXPECT_GT(aces.pixel(i, 0)[1], aces.pixel(i - 1, 0)[1]) << values[i];
+    EXPECT_LT(aces.pixel(i, 0)[1], 1.0f) << values[i];
+    EXPECT_NEAR(standard.pixel(i, 0)[1], 1.0f, 1e-6) << values[i];
+  }
+  // The exposure scales the scene-linear values first: +1 stop of 0.09 is 0.18.
+  Image half(1, 1);
+  for (int c = 0; c < 3; ++c) half.pixel(0, 0)[c] = 0.09f;
+  EXPECT_NEAR(colour.working_to_display(half, {"", 1.0}).pixel(0, 0)[0], 0.46135613, 1e-6);
+  EXPECT_THROW(colour.working_to_display(half, {"No such view", 0.0}), std::runtime_error);
+  const std::vector<DisplayView> views = colour.views();
+  ASSERT_EQ(views.size(), 3u);
+  EXPECT_EQ(views[0].view, "Standard");
+  EXPECT_TRUE(views[0].is_default);
+  EXPECT_EQ(views[1].view, "ACES 1.0 SDR-video");
+}
+
 TEST(ColourPipeline, MissingOcioFileIsNamedInTheError) {
   const std::string path = "/nonexistent/prism-test/config.ocio";
   ScopedOcioEnv env(path.c_str());

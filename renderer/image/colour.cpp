@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <iterator>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -101,6 +103,19 @@ struct ColourPipeline::Impl {
   OCIO::ConstCPUProcessorRcPtr rec709_to_working;
   OCIO::ConstCPUProcessorRcPtr srgb_texture_to_working;
   OCIO::ConstCPUProcessorRcPtr working_to_display;
+  std::string display, view;
+  // Other views, built on first use; the map's nodes stay put, so a processor handed out
+  // stays valid while others are added.
+  std::mutex views_mutex;
+  std::map<std::string, OCIO::ConstCPUProcessorRcPtr> other_views;
+
+  OCIO::ConstCPUProcessorRcPtr display_processor(const std::string& view_name) {
+    OCIO::DisplayViewTransformRcPtr display_view = OCIO::DisplayViewTransform::Create();
+    display_view->setSrc(working_name.c_str());
+    display_view->setDisplay(display.c_str());
+    display_view->setView(view_name.c_str());
+    return cpu_processor(config->getProcessor(display_view));
+  }
 };
 
 ColourPipeline::ColourPipeline(WorkingSpace working_space)
@@ -150,11 +165,9 @@ ColourPipeline::ColourPipeline(WorkingSpace working_space)
         cpu_processor(config.getProcessor(rec709.c_str(), impl_->working_name.c_str()));
     impl_->srgb_texture_to_working =
         cpu_processor(config.getProcessor(srgb_texture.c_str(), impl_->working_name.c_str()));
-    OCIO::DisplayViewTransformRcPtr display_view = OCIO::DisplayViewTransform::Create();
-    display_view->setSrc(impl_->working_name.c_str());
-    display_view->setDisplay(display.c_str());
-    display_view->setView(view.c_str());
-    impl_->working_to_display = cpu_processor(config.getProcessor(display_view));
+    impl_->display = display;
+    impl_->view = view;
+    impl_->working_to_display = impl_->display_processor(view);
   } catch (const OCIO::Exception& e) {
     throw std::runtime_error(one_line(where + ": cannot build colour transforms: " + e.what()));
   }
@@ -213,11 +226,59 @@ std::optional<ColourPipeline::CodeTable> ColourPipeline::srgb_texture_code_table
 }
 
 Image ColourPipeline::working_to_display(const Image& image) const {
+  return working_to_display(image, DisplayOptions{});
+}
+
+Image ColourPipeline::working_to_display(const Image& image, const DisplayOptions& options) const {
+  OCIO::ConstCPUProcessorRcPtr processor = impl_->working_to_display;
+  if (!options.view.empty() && options.view != impl_->view) {
+    std::lock_guard lock(impl_->views_mutex);
+    OCIO::ConstCPUProcessorRcPtr& cached = impl_->other_views[options.view];
+    if (!cached) {
+      if (!has_view(*impl_->config, impl_->display.c_str(), options.view.c_str())) {
+        impl_->other_views.erase(options.view);
+        std::string names;
+        for (const DisplayView& v : views())
+          if (v.display == impl_->display) names += (names.empty() ? "" : ", ") + v.view;
+        throw std::runtime_error("view '" + options.view + "': display '" + impl_->display +
+                                 "' of OCIO config " + impl_->source + " has " + names);
+      }
+      try {
+        cached = impl_->display_processor(options.view);
+      } catch (const OCIO::Exception& e) {
+        throw std::runtime_error(
+            one_line("view '" + options.view + "': cannot build it: " + e.what()));
+      }
+    }
+    processor = cached;
+  }
   Image out = image;
-  const std::size_t pixel_count = out.rgba.size() / 4;
-  apply_rgb(*impl_->working_to_display, out.rgba.data(), pixel_count, 4);
+  if (options.exposure != 0.0) {
+    const float scale = static_cast<float>(std::exp2(options.exposure));
+    for (std::size_t i = 0; i < out.rgba.size(); i += 4)
+      for (int c = 0; c < 3; ++c) out.rgba[i + c] *= scale;
+  }
+  apply_rgb(*processor, out.rgba.data(), out.rgba.size() / 4, 4);
   for (float& v : out.rgba) v = clamp_unit(v);
   return out;
+}
+
+std::vector<DisplayView> ColourPipeline::views() const {
+  std::vector<DisplayView> out;
+  const OCIO::Config& config = *impl_->config;
+  out.push_back({impl_->display, impl_->view, true});
+  for (int d = 0; d < config.getNumDisplays(); ++d) {
+    const std::string display = config.getDisplay(d);
+    for (int v = 0; v < config.getNumViews(display.c_str()); ++v) {
+      const std::string view = config.getView(display.c_str(), v);
+      if (display != impl_->display || view != impl_->view) out.push_back({display, view, false});
+    }
+  }
+  return out;
+}
+
+const std::string& ColourPipeline::display() const {
+  return impl_->display;
 }
 
 std::array<float, 8> ColourPipeline::chromaticities() const {

@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "renderer/enum_names.h"
 #include "renderer/image/image.h"
@@ -29,6 +30,17 @@ inline constexpr EnumName<WorkingSpace> kWorkingSpaceNames[] = {
 constexpr std::span<const EnumName<WorkingSpace>> enum_names(WorkingSpace) {
   return kWorkingSpaceNames;
 }
+
+// How a display-referred output (PNG, JPEG, the preview) is made from the scene-linear image.
+struct DisplayOptions {
+  std::string view;       // a view of the config's display; empty = Standard, else its default
+  double exposure = 0.0;  // stops: the scene-linear image is scaled by 2^exposure first
+};
+
+struct DisplayView {
+  std::string display, view;
+  bool is_default = false;  // what an empty DisplayOptions::view gives
+};
 
 class ColourPipeline {
  public:
@@ -58,6 +70,13 @@ class ColourPipeline {
   // The image through the display/view transform (sRGB display, Standard view), as
   // display-referred RGBA in [0, 1] ready to quantise for a PNG.
   Image working_to_display(const Image& image) const;
+  // Through the view `options` names (std::runtime_error listing the views when the config's
+  // display has no such view), after the exposure.
+  Image working_to_display(const Image& image, const DisplayOptions& options) const;
+  // Every display and view of the config, the one used first.
+  std::vector<DisplayView> views() const;
+  // The display the images are shown on (sRGB - Display, else the config's default).
+  const std::string& display() const;
   // CIE xy of the working space's red, green, blue and white: rx ry gx gy bx by wx wy.
   std::array<float, 8> chromaticities() const;
 

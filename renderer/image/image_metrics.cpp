@@ -107,4 +107,43 @@ Image read_exr(const std::string& path) {
   return oiio_module(path).read_image(path);
 }
 
+Image difference_image(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height)
+    throw std::invalid_argument("difference_image: the images differ in size");
+  Image out(a.width, a.height);
+  for (size_t i = 0; i < a.rgba.size(); i += 4) {
+    bool finite = true;
+    for (size_t c = 0; c < 3; ++c)
+      finite = finite && std::isfinite(a.rgba[i + c]) && std::isfinite(b.rgba[i + c]);
+    for (size_t c = 0; c < 3; ++c)
+      out.rgba[i + c] = finite ? std::abs(a.rgba[i + c] - b.rgba[i + c])
+                               : std::numeric_limits<float>::quiet_NaN();
+    out.rgba[i + 3] = 1.0f;
+  }
+  return out;
+}
+
+Image error_heatmap(const Image& difference, float peak) {
+  // Stops of the ramp, evenly spaced from 0 to `peak`.
+  static constexpr float kRamp[][3] = {{0, 0, 0}, {0, 0, 1}, {1, 0, 1},
+                                       {1, 0, 0}, {1, 1, 0}, {1, 1, 1}};
+  constexpr int kSegments = static_cast<int>(std::size(kRamp)) - 1;
+  Image out(difference.width, difference.height);
+  for (size_t i = 0; i < difference.rgba.size(); i += 4) {
+    const float e = std::max({difference.rgba[i], difference.rgba[i + 1], difference.rgba[i + 2]});
+    float* p = &out.rgba[i];
+    p[3] = 1.0f;
+    if (!std::isfinite(difference.rgba[i]) || !std::isfinite(difference.rgba[i + 1]) ||
+        !std::isfinite(difference.rgba[i + 2])) {
+      p[0] = 0.0f, p[1] = 1.0f, p[2] = 0.0f;
+      continue;
+    }
+    const float t = peak > 0.0f ? std::clamp(e / peak, 0.0f, 1.0f) * kSegments : 0.0f;
+    const int k = std::min(static_cast<int>(t), kSegments - 1);
+    const float f = t - static_cast<float>(k);
+    for (int c = 0; c < 3; ++c) p[c] = kRamp[k][c] + f * (kRamp[k + 1][c] - kRamp[k][c]);
+  }
+  return out;
+}
+
 }  // namespace prism

@@ -41,6 +41,13 @@ struct ImageError {
 // With no pixel finite in both, every metric is NaN.
 ImageError compare_images(const Image& a, const Image& b);
 
+// |a - b| per colour channel, alpha 1; a pixel with a NaN or infinity in either image is NaN
+// (as idiff -o writes it). The images must have the same size.
+Image difference_image(const Image& a, const Image& b);
+// A false-colour map of the largest channel error per pixel, display RGB in [0, 1]: black
+// for none through blue, magenta, red and yellow to white at `peak`; non-finite pixels green.
+Image error_heatmap(const Image& difference, float peak);
+
 // Reads an image file (any format OpenImageIO reads; meant for EXR) as scene-linear RGBA.
 // One channel is grey (R = G = B), a missing alpha is 1. Throws std::runtime_error
 // "<path>: <reason>" on one line when the file cannot be read.

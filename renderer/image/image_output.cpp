@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <climits>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "renderer/image/oiio_module.h"
 #include "renderer/image/png_file.h"
 #include "renderer/temporary_files.h"
 #include "renderer/version.h"
@@ -214,9 +216,15 @@ void write_exr(const std::string& path, const Image& image, const ColourPipeline
   });
 }
 
-void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour) {
+void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour,
+                       const DisplayOptions& options) {
   check_image(path, image);
-  const Image display = colour.working_to_display(image);
+  write_display_png(path, colour.working_to_display(image, options));
+}
+
+void write_display_png(const std::string& path, const Image& display) {
+  check_image(path, display);
+  const Image& image = display;
 
   // RGB only: the render's colour is premultiplied by alpha, i.e. already "over black", and a
   // preview that viewers draw over a checkerboard would misrepresent it.
@@ -231,6 +239,36 @@ void write_png_preview(const std::string& path, const Image& image, const Colour
     write_png_file(temporary, image.width, image.height, bytes.data(),
                    std::string("prism ") + kVersion);
   });
+}
+
+bool image_format_for_path(const std::string& path, ImageFormat* format) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  static const std::pair<const char*, ImageFormat> kExtensions[] = {
+      {".exr", ImageFormat::exr},  {".tif", ImageFormat::tiff}, {".tiff", ImageFormat::tiff},
+      {".hdr", ImageFormat::hdr},  {".png", ImageFormat::png},  {".jpg", ImageFormat::jpeg},
+      {".jpeg", ImageFormat::jpeg}};
+  for (const auto& [extension, f] : kExtensions)
+    if (ext == extension) {
+      *format = f;
+      return true;
+    }
+  return false;
+}
+
+void write_image(const std::string& path, ImageFormat format, const Image& image,
+                 const ColourPipeline& colour, const DisplayOptions& display) {
+  if (format == ImageFormat::png) return write_png_preview(path, image, colour, display);
+  if (format == ImageFormat::exr) throw std::logic_error("write_image: EXR goes through write_exr");
+  check_image(path, image);
+  // Loaded before the temporary exists, so that a missing module leaves nothing behind.
+  const OiioModule& oiio = oiio_module(path);
+  const Image pixels = display_referred(format) ? colour.working_to_display(image, display) : image;
+  const char* name = format == ImageFormat::tiff  ? "tiff"
+                     : format == ImageFormat::hdr ? "hdr"
+                                                  : "jpeg";
+  write_atomically(
+      path, [&](const std::string& temporary) { oiio.write_image(temporary, pixels, name); });
 }
 
 }  // namespace prism

@@ -34,6 +34,25 @@ inline void write_exr(const std::string& path, const Image& image, const ColourP
                       ExrPixelType pixel_type = ExrPixelType::half) {
   write_exr(path, image, colour, metadata, ExrWriteOptions{pixel_type});
 }
-void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour);
+void write_png_preview(const std::string& path, const Image& image, const ColourPipeline& colour,
+                       const DisplayOptions& display = {});
+// An image already display-referred (RGB in [0, 1]) as an 8-bit PNG.
+void write_display_png(const std::string& path, const Image& display);
+
+// The formats an output may have, chosen by its extension. EXR, TIFF and HDR hold the
+// scene-linear image; PNG and JPEG the display-referred one (through the OCIO view).
+enum class ImageFormat { exr, tiff, hdr, png, jpeg };
+// By `path`'s extension (.exr, .tif, .tiff, .hdr, .png, .jpg, .jpeg, any case); false for
+// any other.
+bool image_format_for_path(const std::string& path, ImageFormat* format);
+inline constexpr const char* kImageExtensions = ".exr, .tif, .tiff, .hdr, .png, .jpg or .jpeg";
+inline bool display_referred(ImageFormat format) {
+  return format == ImageFormat::png || format == ImageFormat::jpeg;
+}
+// Writes any of them but EXR (write_exr), atomically: TIFF and HDR through OpenImageIO
+// (loaded on first use), PNG and JPEG through the colour pipeline's view. Throws
+// std::runtime_error("<path>: <reason>").
+void write_image(const std::string& path, ImageFormat format, const Image& image,
+                 const ColourPipeline& colour, const DisplayOptions& display);
 
 }  // namespace prism

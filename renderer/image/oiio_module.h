@@ -46,6 +46,11 @@ class OiioModule {
   virtual Image read_image(const std::string& path, int64_t max_pixels) const = 0;
   Image read_image(const std::string& path) const { return read_image(path, int64_t{1} << 30); }
   virtual std::unique_ptr<RasterCanvas> make_canvas(int width, int height) const = 0;
+  // Writes `image` to `path` itself in OpenImageIO's format `format` ("tiff", "hdr",
+  // "jpeg"): RGBA float for tiff, RGB float for hdr, RGB 8-bit for jpeg (its values then
+  // display-referred in [0, 1]). Throws std::runtime_error "<path>: <reason>".
+  virtual void write_image(const std::string& path, const Image& image,
+                           const std::string& format) const = 0;
 };
 
 // The module, loaded on the first call. Throws std::runtime_error "<for_path>: <reason>"

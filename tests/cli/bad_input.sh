@@ -14,7 +14,7 @@ expect 2 "--res" -- render "$SCENE" -o "$TMP/a.exr" --res 0x10
 expect 2 "--spheres" -- render "$SCENE" -o "$TMP/a.exr" --spheres cubes
 expect 2 "--working-space" -- render "$SCENE" -o "$TMP/a.exr" --working-space xyz
 expect 2 "does not exist" -- render "$SCENE" -o "$TMP/missing-dir/a.exr"
-expect 2 "must end in .exr" -- render "$SCENE" -o "$TMP/a.png"
+expect 2 "must end in .exr, .tif, .tiff, .hdr, .png, .jpg or .jpeg" -- render "$SCENE" -o "$TMP/a.gif"
 expect 2 "must end in .png" -- render "$SCENE" -o "$TMP/a.exr" --preview "$TMP/a.jpg"
 expect 2 "--camera nope" -- render "$SCENE" -o "$TMP/a.exr" --camera nope
 expect 2 "--camera 7" -- render "$SCENE" -o "$TMP/a.exr" --camera 7

@@ -76,7 +76,7 @@ X='"name": "x", "scene": "spheres.gltf"'
 schema "unknown key" "$GOOD, {$X, \"output\": \"s/x.exr\", \"colour\": 3}" \
   "jobs\[1\] 'x': colour: no such key"
 schema "spp many" "$GOOD, {$X, \"output\": \"s/x.exr\", \"spp\": \"many\"}" "jobs\[1\] 'x': spp: .*many"
-schema "spp 0" "$GOOD, {$X, \"output\": \"s/x.exr\", \"spp\": 0}" "jobs\[1\] 'x': spp: .*0 not in range"
+schema "spp 0" "$GOOD, {$X, \"output\": \"s/x.exr\", \"spp\": 0}" "jobs\[1\] 'x': spp: must be a whole number from 1 to 65536, not 0"
 schema "integrator" "$GOOD, {$X, \"output\": \"s/x.exr\", \"integrator\": \"raymarch\"}" \
   "jobs\[1\] 'x': integrator: raymarch: expected phong, shadow or whitted"
 schema "no scene" "$GOOD, "'{"name": "x", "output": "s/x.exr"}' "jobs\[1\] 'x': scene: missing"

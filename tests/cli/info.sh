@@ -73,7 +73,7 @@ for s in 2 -1 dusk 99999999999999999999999; do
   "$PRISM" info "$TMP/scenes.gltf" --scene "$s" >"$TMP/out" 2>"$TMP/err"; rc=$?
   [[ $rc -eq 2 && $(wc -l <"$TMP/err") -eq 1 && ! -s $TMP/out ]] ||
     fail "--scene $s: exit $rc, expected 2 with one line: $(cat "$TMP/err")"
-  grep -qF "no scene '$s' (the file has 2: 0 'day', 1 'night')" "$TMP/err" ||
+  grep -qF "no scene '$s' (the file has 2 scenes: 0 'day', 1 'night'; give a name or an index from 0 to 1)" "$TMP/err" ||
     fail "--scene $s: message $(cat "$TMP/err")"
 done
 "$PRISM" render "$TMP/scenes.gltf" --scene dusk -o "$TMP/s.exr" >/dev/null 2>"$TMP/err"; rc=$?

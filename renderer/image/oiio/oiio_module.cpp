@@ -106,6 +106,27 @@ class Module final : public OiioModule {
     return image;
   }
 
+  void write_image(const std::string& path, const Image& image,
+                   const std::string& format) const override {
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
+    if (!out) fail(path, "no " + format + " writer: " + OIIO::geterror());
+    const bool eight_bit = format == "jpeg";
+    const int channels = format == "tiff" ? 4 : 3;
+    OIIO::ImageSpec spec(image.width, image.height, channels,
+                         eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    if (eight_bit) spec.attribute("CompressionQuality", 95);
+    spec.attribute("Software", std::string("prism ") + kVersion);
+    const size_t pixels = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+    std::vector<float> data(pixels * static_cast<size_t>(channels));
+    for (size_t p = 0; p < pixels; ++p)
+      for (size_t c = 0; c < static_cast<size_t>(channels); ++c)
+        data[p * static_cast<size_t>(channels) + c] = image.rgba[p * 4 + c];
+    if (!out->open(path, spec)) fail(path, out->geterror());
+    // Floats in, converted to the file's type by OpenImageIO (rounded for 8 bits).
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, data.data())) fail(path, out->geterror());
+    if (!out->close()) fail(path, out->geterror());
+  }
+
   std::unique_ptr<RasterCanvas> make_canvas(int width, int height) const override {
     return std::make_unique<OiioCanvas>(width, height);
   }
