@@ -44,7 +44,10 @@ RenderScene::RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescri
   // A sphere around the geometry sizes directional lights' power for the light sampler.
   const Imath::Box3f bounds = geometry_.bounds();
   const float radius = bounds.isEmpty() ? 1.0f : 0.5f * (bounds.max - bounds.min).length();
-  light_sampler_ = LightSampler(lights_, std::isfinite(radius) && radius > 0.0f ? radius : 1.0f);
+  const float scene_radius = std::isfinite(radius) && radius > 0.0f ? radius : 1.0f;
+  light_sampler_ = LightSampler(lights_, scene_radius);
+  area_lights_ = make_area_lights(geometry_.emitters(), materials_, default_material_);
+  emitter_sampler_ = EmitterSampler(lights_, area_lights_, environment_, scene_radius);
 }
 
 }  // namespace prism

@@ -11,6 +11,8 @@
 #include "renderer/camera.h"
 #include "renderer/geometry/embree_scene.h"
 #include "renderer/scene_features.h"
+#include "renderer/shading/area_lights.h"
+#include "renderer/shading/emitter_sampler.h"
 #include "renderer/shading/environment.h"
 #include "renderer/shading/light_sampler.h"
 #include "renderer/shading/lights.h"
@@ -45,6 +47,11 @@ class RenderScene {
   // hit instead of visiting them all (renderer/shading/light_sampler.h).
   const LightSampler& light_sampler() const { return light_sampler_; }
   const Environment& environment() const { return environment_; }
+  // The emissive triangles and spheres as lights, indexed by SurfaceHit::emitter.
+  const std::vector<AreaLight>& area_lights() const { return area_lights_; }
+  // Chooses among the punctual lights, the area lights and the environment by power, for
+  // integrators that sample every kind of light (integrators/path.cpp).
+  const EmitterSampler& emitter_sampler() const { return emitter_sampler_; }
   // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
   const Material& material(int index) const {
     return index >= 0 && index < static_cast<int>(materials_.size()) ? materials_[index]
@@ -65,6 +72,8 @@ class RenderScene {
   std::vector<LightSource> lights_;
   LightSampler light_sampler_;
   Environment environment_;
+  std::vector<AreaLight> area_lights_;  // point into materials_
+  EmitterSampler emitter_sampler_;
   SceneFeatures features_;
 };
 
