@@ -9,8 +9,10 @@
 // The BSDF is glTF's (renderer/shading/bsdf.h, Bsdf::path_traced): GGX sampled by its visible
 // normals (Heitz 2018), Lambert by the cosine. After kRouletteDepth bounces a path continues
 // with probability min(1, max(beta)) and its throughput is divided by it (Russian roulette,
-// unbiased). --max-depth bounds the bounces; --clamp, off by default, caps each sample's
-// radiance (its largest channel) and so biases bright paths down, for previews only.
+// unbiased; --roulette-depth). --max-depth bounds the bounces; --clamp, off by default, caps
+// each sample's radiance (its largest channel) and so biases bright paths down, for previews
+// only. --strategy 1 or 2 keeps only the light samples or only the BSDF samples for lights
+// that are not deltas: the same image in expectation, noisier, for checking MIS.
 //
 // Each bounce k draws its random numbers from fixed sample dimensions,
 // 2 + kDimensionsPerBounce k onwards (renderer/sampling/sampler.h), so a pixel's sample is a
@@ -23,6 +25,8 @@
 // | --------- | ------- | ------- | -------------------------------------------------------- |
 // | max-depth | integer | 16      | most bounces after the camera ray                        |
 // | clamp     | number  | 0       | largest radiance a sample keeps (largest channel); 0 off |
+// | roulette-depth | integer | 3  | bounces before Russian roulette may end a path           |
+// | strategy  | integer | 0       | 0 MIS, 1 light samples only, 2 BSDF samples only         |
 #include <algorithm>
 #include <cmath>
 
@@ -38,10 +42,15 @@ constexpr ParameterInfo kParameters[] = {
     {"max-depth", ParameterType::integer, 16, 0, 1024, "Most bounces after the camera ray"},
     {"clamp", ParameterType::real, 0.0, 0.0, 3.4e38,
      "Largest radiance a sample keeps (largest channel), biasing bright paths; 0 = off"},
+    {"roulette-depth", ParameterType::integer, 3, 0, 1024,
+     "Bounces before Russian roulette may end a path (at max-depth or more: never)"},
+    {"strategy", ParameterType::integer, 0, 0, 2,
+     "Light sampling: 0 = both, weighed by MIS; 1 = light samples only; 2 = BSDF samples only"},
 };
 
-// Bounces before Russian roulette may end a path.
-constexpr int kRouletteDepth = 3;
+// How light from lights that are not deltas is found; every strategy is unbiased, MIS has
+// the lowest variance, the other two are there to check it (tests/path_test.cpp).
+enum class Strategy : uint8_t { mis, light_only, bsdf_only };
 // Per bounce: the light's point (a pair), the BSDF's direction (a pair), the light's choice,
 // the BSDF's lobe and the roulette; one dimension spare keeps bounces on pair boundaries.
 constexpr uint32_t kDimensionsPerBounce = 8;
@@ -59,9 +68,38 @@ float max_component(const V3f& c) {
 
 struct PathParameters {
   explicit PathParameters(const ParameterValues& values)
-      : max_depth(values.integer("max-depth")), clamp(static_cast<float>(values.real("clamp"))) {}
+      : max_depth(values.integer("max-depth")),
+        roulette_depth(values.integer("roulette-depth")),
+        clamp(static_cast<float>(values.real("clamp"))),
+        strategy(static_cast<Strategy>(values.integer("strategy"))) {}
   int max_depth;
+  int roulette_depth;
   float clamp;
+  Strategy strategy;
+
+  // The weights of a BSDF sample and a light sample of densities `bsdf` and `light`.
+  float bsdf_weight(float bsdf, float light) const {
+    switch (strategy) {
+      case Strategy::mis:
+        break;
+      case Strategy::light_only:
+        return light > 0.0f ? 0.0f : 1.0f;
+      case Strategy::bsdf_only:
+        return 1.0f;
+    }
+    return power_heuristic(bsdf, light);
+  }
+  float light_weight(float light, float bsdf) const {
+    switch (strategy) {
+      case Strategy::mis:
+        break;
+      case Strategy::light_only:
+        return 1.0f;
+      case Strategy::bsdf_only:
+        return bsdf > 0.0f ? 0.0f : 1.0f;
+    }
+    return power_heuristic(light, bsdf);
+  }
 };
 
 // Emission: some surface emits (area lights exist). Environment: the environment is not black.
@@ -92,7 +130,7 @@ struct PathTracer {
       if (bsdf_pdf < 0.0f) return radiance;
       const float light_pdf =
           context.scene.emitter_sampler().pmf_environment() * env.pdf(direction);
-      return radiance * power_heuristic(bsdf_pdf, light_pdf);
+      return radiance * params.bsdf_weight(bsdf_pdf, light_pdf);
     }
   }
 
@@ -118,7 +156,7 @@ struct PathTracer {
             const float light_pdf =
                 scene.emitter_sampler().pmf_area(hit.emitter) *
                 scene.area_lights()[hit.emitter].pdf_towards(from, hit.position);
-            weight = power_heuristic(bsdf_pdf, light_pdf);
+            weight = params.bsdf_weight(bsdf_pdf, light_pdf);
           }
           radiance += hadamard(beta, e) * weight;
         }
@@ -136,16 +174,19 @@ struct PathTracer {
       const float u_lobe = sampler.get1d();
       const float u_roulette = sampler.get1d();
 
+      // Lights are sampled from the shadow rays' origin, off the surface on the lit side: a
+      // point on an emissive sphere itself is then unambiguously inside or outside it.
+      const V3f reference = shadow_ray_origin(hit, n);
       if (bsdf.flags() & (kDiffuseReflection | kGlossyReflection))
-        radiance += hadamard(beta, light_sample(hit, bsdf, wo, n, u_choice,
+        radiance += hadamard(beta, light_sample(reference, bsdf, wo, n, u_choice,
                                                 Imath::V2f(u_light.x, u_light.y), counters));
 
       BsdfSample bs;
       if (!bsdf.sample(wo, u_lobe, Imath::V2f(u_bsdf.x, u_bsdf.y), hit.back_face, &bs)) break;
       beta = hadamard(beta, bs.f) * (std::fabs(dot(n, bs.wi)) / bs.pdf);
       bsdf_pdf = bs.specular() ? -1.0f : bs.pdf;
-      from = hit.position;
-      if (depth + 1 >= kRouletteDepth) {
+      from = reference;
+      if (depth + 1 >= params.roulette_depth) {
         const float survive = std::fmin(1.0f, max_component(beta));
         if (!(u_roulette < survive)) break;
         beta /= survive;
@@ -165,8 +206,9 @@ struct PathTracer {
     return radiance;
   }
 
-  // One light sample at the hit, weighed against the BSDF's density for the same direction.
-  V3f light_sample(const SurfaceHit& hit, const Bsdf& bsdf, const V3f& wo, const V3f& n,
+  // One light sample from `reference` (shadow_ray_origin of the hit), weighed against the
+  // BSDF's density for the same direction.
+  V3f light_sample(const V3f& reference, const Bsdf& bsdf, const V3f& wo, const V3f& n,
                    float u_choice, const Imath::V2f& u, RayCounters* counters) const {
     const RenderScene& scene = context.scene;
     ChosenEmitter chosen;
@@ -176,13 +218,12 @@ struct PathTracer {
     bool delta = false;
     switch (chosen.kind) {
       case EmitterKind::punctual:
-        if (!scene.lights()[chosen.index].sample(hit.position, u, &arrival)) return V3f(0.0f);
+        if (!scene.lights()[chosen.index].sample(reference, u, &arrival)) return V3f(0.0f);
         delta = true;
         break;
       case EmitterKind::area:
         if constexpr (HasEmission) {
-          if (!scene.area_lights()[chosen.index].sample(hit.position, u, &arrival))
-            return V3f(0.0f);
+          if (!scene.area_lights()[chosen.index].sample(reference, u, &arrival)) return V3f(0.0f);
           arrival.distance *= kShadowRayEnd;
           break;
         } else {
@@ -205,7 +246,7 @@ struct PathTracer {
     const V3f f = bsdf.eval(wo, arrival.wi, n);
     if (!(max_component(f) > 0.0f)) return V3f(0.0f);
     Ray shadow;
-    shadow.origin = shadow_ray_origin(hit, n);
+    shadow.origin = reference;
     shadow.direction = arrival.wi;
     shadow.tfar = arrival.distance;
     ++(*counters)[RayKind::shadow];
@@ -213,7 +254,9 @@ struct PathTracer {
     const V3f contribution = hadamard(f, arrival.radiance) * cos_light;
     if (delta) return contribution / chosen.pmf;
     const float light_pdf = chosen.pmf * arrival.pdf;
-    return contribution * (power_heuristic(light_pdf, bsdf.pdf(wo, arrival.wi)) / light_pdf);
+    const float weight = params.light_weight(light_pdf, bsdf.pdf(wo, arrival.wi));
+    if (weight == 0.0f) return V3f(0.0f);
+    return contribution * (weight / light_pdf);
   }
 };
 

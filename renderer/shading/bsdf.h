@@ -88,7 +88,7 @@ struct SpecularLobe {
 
 struct BsdfSample {
   Imath::V3f wi;
-  Imath::V3f f;      // the BSDF's value (for a delta lobe: the weight times pdf / |cos|)
+  Imath::V3f f;      // the BSDF's value (for a delta lobe: its weight / |cos|, pbrt's convention)
   float pdf = 0.0f;  // per unit solid angle; for a delta lobe, the probability of choosing it
   uint8_t lobe = 0;  // the one BsdfLobe bit sampled
   bool specular() const { return (lobe & kSpecularLobes) != 0; }
@@ -214,7 +214,8 @@ class Bsdf {
       const float cos_wi = std::fabs(dot(n, lobes[k].wi));
       out->wi = lobes[k].wi;
       out->pdf = p;
-      out->f = cos_wi > 0.0f ? lobes[k].weight() * (p / cos_wi) : Imath::V3f(0.0f);
+      // f |cos| / pdf = weight / p: the lobe's weight divided by the chance of choosing it.
+      out->f = cos_wi > 0.0f ? lobes[k].weight() / cos_wi : Imath::V3f(0.0f);
       out->lobe = lobes[k].transmission ? kSpecularTransmission : kSpecularReflection;
       return cos_wi > 0.0f;
     }
