@@ -38,6 +38,19 @@ struct AmbientLight {
   float environment = 1.0f;
 };
 
+// Where a shadow ray towards a light on the side of `n` (the shading normal on that side)
+// leaves `hit`. On the front side of a smooth-shaded triangle the ray starts from Hanika's point
+// on the smooth surface (SurfaceHit::terminator_offset), and leaves along n: near the terminator
+// the light can be behind the flat triangle (N_g . L < 0) while the smooth surface faces it, and
+// an origin pushed behind the triangle would be shadowed by the mesh's own inside. The offset is
+// Hanika's for convex-from-the-front surfaces only, so seen from behind (n on the back side) the
+// hit point itself is used.
+inline Imath::V3f shadow_ray_origin(const SurfaceHit& hit, const Imath::V3f& n) {
+  const bool front = dot(n, hit.geometric_normal) > 0.0f;
+  const V3f from = front ? hit.position + hit.terminator_offset : hit.position;
+  return offset_ray_origin(from, n, hit.surface_error);
+}
+
 // Which of the scene's lights a call shades: [first, last), clamped to the lights there are.
 struct LightRange {
   size_t first = 0;
@@ -78,16 +91,8 @@ Imath::V3f shade_local_with(const RenderContext& context, const AmbientLight& am
     if (cos_light <= 0.0f) continue;
     Ray shadow_ray;
     if constexpr (Shadows) {
-      // The light is on the shading normal's side. On the front side of a smooth-shaded
-      // triangle the ray starts from Hanika's point on the smooth surface
-      // (SurfaceHit::terminator_offset), and leaves along n: near the terminator the light
-      // can be behind the flat triangle (N_g . L < 0) while the smooth surface faces it, and
-      // an origin pushed behind the triangle would be shadowed by the mesh's own inside.
-      // The offset is Hanika's for convex-from-the-front surfaces only, so seen from behind
-      // (n on the back side) the hit point itself is used.
-      const bool front = dot(n, hit.geometric_normal) > 0.0f;
-      const V3f from = front ? hit.position + hit.terminator_offset : hit.position;
-      shadow_ray.origin = offset_ray_origin(from, n, hit.surface_error);
+      // The light is on the shading normal's side (shadow_ray_origin).
+      shadow_ray.origin = shadow_ray_origin(hit, n);
       shadow_ray.direction = arrival.wi;
       shadow_ray.tfar = arrival.distance;
     }

@@ -9,6 +9,7 @@ namespace prism {
 extern const IntegratorInfo kPhongIntegrator;
 extern const IntegratorInfo kShadowIntegrator;
 extern const IntegratorInfo kWhittedIntegrator;
+extern const IntegratorInfo kPathIntegrator;
 
 namespace {
 
@@ -17,6 +18,7 @@ const IntegratorInfo* const kIntegrators[] = {
     &kPhongIntegrator,
     &kShadowIntegrator,
     &kWhittedIntegrator,
+    &kPathIntegrator,
 };
 
 }  // namespace

@@ -19,11 +19,13 @@ namespace prism {
 
 // The kinds of ray an integrator casts, counted per render and reported by name (summary,
 // EXR metadata, compare's tables). An integrator that casts a new kind adds a row here.
-enum class RayKind : uint8_t { camera, shadow, reflection, refraction };
+// `bounce`: a path tracer's rays after the camera ray, sampled from the BSDF.
+enum class RayKind : uint8_t { camera, shadow, reflection, refraction, bounce };
 inline constexpr EnumName<RayKind> kRayKindNames[] = {{RayKind::camera, "camera"},
                                                       {RayKind::shadow, "shadow"},
                                                       {RayKind::reflection, "reflection"},
-                                                      {RayKind::refraction, "refraction"}};
+                                                      {RayKind::refraction, "refraction"},
+                                                      {RayKind::bounce, "bounce"}};
 constexpr std::span<const EnumName<RayKind>> enum_names(RayKind) {
   return kRayKindNames;
 }

@@ -44,7 +44,16 @@ RenderScene::RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescri
   // A sphere around the geometry sizes directional lights' power for the light sampler.
   const Imath::Box3f bounds = geometry_.bounds();
   const float radius = bounds.isEmpty() ? 1.0f : 0.5f * (bounds.max - bounds.min).length();
-  light_sampler_ = LightSampler(lights_, std::isfinite(radius) && radius > 0.0f ? radius : 1.0f);
+  scene_radius_ = std::isfinite(radius) && radius > 0.0f ? radius : 1.0f;
+  light_sampler_ = LightSampler(lights_, scene_radius_);
+  area_lights_ = make_area_lights(geometry_.emitters(), materials_, default_material_);
+  emitter_sampler_ = EmitterSampler(lights_, area_lights_, environment_, scene_radius_);
+}
+
+void RenderScene::set_environment(const Environment& environment) {
+  environment_ = environment;
+  // The environment's share of the light choices follows its power.
+  emitter_sampler_ = EmitterSampler(lights_, area_lights_, environment_, scene_radius_);
 }
 
 }  // namespace prism

@@ -11,6 +11,8 @@
 #include "renderer/camera.h"
 #include "renderer/geometry/embree_scene.h"
 #include "renderer/scene_features.h"
+#include "renderer/shading/area_lights.h"
+#include "renderer/shading/emitter_sampler.h"
 #include "renderer/shading/environment.h"
 #include "renderer/shading/light_sampler.h"
 #include "renderer/shading/lights.h"
@@ -46,7 +48,13 @@ class RenderScene {
   const LightSampler& light_sampler() const { return light_sampler_; }
   const Environment& environment() const { return environment_; }
   // The environment changes nothing the build made: a render scene takes each job's own.
-  void set_environment(const Environment& environment) { environment_ = environment; }
+  // (and the light choices that weigh it against the scene's lights follow).
+  void set_environment(const Environment& environment);
+  // The emissive triangles and spheres as lights, indexed by SurfaceHit::emitter.
+  const std::vector<AreaLight>& area_lights() const { return area_lights_; }
+  // Chooses among the punctual lights, the area lights and the environment by power, for
+  // integrators that sample every kind of light (integrators/path.cpp).
+  const EmitterSampler& emitter_sampler() const { return emitter_sampler_; }
   // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
   const Material& material(int index) const {
     return index >= 0 && index < static_cast<int>(materials_.size()) ? materials_[index]
@@ -67,6 +75,9 @@ class RenderScene {
   std::vector<LightSource> lights_;
   LightSampler light_sampler_;
   Environment environment_;
+  std::vector<AreaLight> area_lights_;  // point into materials_
+  EmitterSampler emitter_sampler_;
+  float scene_radius_ = 1.0f;  // a sphere around the geometry: sizes infinite lights' power
   SceneFeatures features_;
 };
 

@@ -106,10 +106,16 @@ class Builder:
         return len(self.gltf["meshes"]) - 1
 
     def material(self, name, base, metallic, roughness, transmission=0.0, ior=None, texture=None,
-                 specular=None):
+                 specular=None, emissive=None, emissive_strength=None):
         m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": list(base) + [1.0],
                                                     "metallicFactor": metallic,
                                                     "roughnessFactor": roughness}}
+        if emissive is not None:
+            m["emissiveFactor"] = list(emissive)
+        if emissive_strength is not None:
+            m.setdefault("extensions", {})["KHR_materials_emissive_strength"] = {
+                "emissiveStrength": emissive_strength}
+            self.use_extension("KHR_materials_emissive_strength")
         if texture is not None:
             m["pbrMetallicRoughness"]["baseColorTexture"] = {"index": texture}
         if transmission:
@@ -274,7 +280,50 @@ def whitted_scene():
     b.write("whitted.gltf")
 
 
+def cornell_scene():
+    """A Cornell box 2 m on a side lit only by an emissive ceiling panel (0.5 m x 0.5 m,
+    emissiveFactor times KHR_materials_emissive_strength): no punctual light, so every light in
+    the image comes from emissive geometry. Lambertian walls (no specular layer), a tall and a
+    short block."""
+    b = Builder()
+    white = b.material("white", (0.73, 0.73, 0.73), 0.0, 1.0, specular=0.0)
+    red = b.material("red", (0.63, 0.065, 0.05), 0.0, 1.0, specular=0.0)
+    green = b.material("green", (0.14, 0.45, 0.091), 0.0, 1.0, specular=0.0)
+    panel = b.material("ceiling panel", (0.0, 0.0, 0.0), 0.0, 1.0, specular=0.0,
+                       emissive=(1.0, 0.85, 0.6), emissive_strength=17.0)
+    # Each quad's front (edge_u x edge_v) faces into the box.
+    b.quad("floor", [-1, 0, 1], [2, 0, 0], [0, 0, -2], white)
+    b.quad("ceiling", [-1, 2, -1], [2, 0, 0], [0, 0, 2], white)
+    b.quad("back wall", [-1, 0, -1], [2, 0, 0], [0, 2, 0], white)
+    b.quad("left wall", [-1, 0, 1], [0, 0, -2], [0, 2, 0], red)
+    b.quad("right wall", [1, 0, -1], [0, 0, 2], [0, 2, 0], green)
+    b.quad("ceiling panel", [-0.25, 1.99, -0.25], [0.5, 0, 0], [0, 0, 0.5], panel)
+
+    def block(name, centre, half, height, angle):
+        c, s = math.cos(angle), math.sin(angle)
+        u = [half * c, 0.0, -half * s]  # the block's local x and z half edges, turned
+        w = [half * s, 0.0, half * c]
+        base = [centre[0] - u[0] - w[0], 0.0, centre[2] - u[2] - w[2]]
+        up = [0.0, height, 0.0]
+        e_u = [2 * x for x in u]
+        e_w = [2 * x for x in w]
+        top = [base[0], height, base[2]]
+        b.quad(name + " top", top, e_w, e_u, white)
+        b.quad(name + " front", [base[0] + e_w[0], 0.0, base[2] + e_w[2]], e_u, up, white)
+        b.quad(name + " back", [base[0] + e_u[0], 0.0, base[2] + e_u[2]], [-x for x in e_u], up,
+               white)
+        b.quad(name + " left", base, e_w, up, white)
+        b.quad(name + " right", [base[0] + e_u[0] + e_w[0], 0.0, base[2] + e_u[2] + e_w[2]],
+               [-x for x in e_w], up, white)
+
+    block("tall block", (-0.33, 0.0, -0.3), 0.3, 1.2, 0.3)
+    block("short block", (0.35, 0.0, 0.35), 0.3, 0.6, -0.3)
+    b.camera("front", (0.0, 1.0, 3.9), (0.0, 1.0, 0.0), 0.69, 1.0)
+    b.write("cornell.gltf")
+
+
 if __name__ == "__main__":
     spheres_scene()
     furnace_scene()
     whitted_scene()
+    cornell_scene()

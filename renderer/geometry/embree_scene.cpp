@@ -28,7 +28,8 @@ struct EmbreeScene::Prototype {
 struct EmbreeScene::Instance {
   const Prototype* prototype = nullptr;
   M44f object_to_world;
-  M44f normal_to_world;  // inverse transpose, for normals (row-vector convention)
+  M44f normal_to_world;                 // inverse transpose, for normals (row-vector convention)
+  std::vector<uint32_t> first_emitter;  // by the prototype's geomID: as GeometryRecord's
 };
 
 struct EmbreeScene::GeometryRecord {
@@ -38,6 +39,9 @@ struct EmbreeScene::GeometryRecord {
   Kind kind = Kind::triangles;
   const PreparedMesh* mesh = nullptr;  // triangles, sphere_mesh
   size_t index = 0;                    // instance: into instances_; sphere_mesh: into spheres_
+  // triangles, sphere_mesh: the emitter of triangle 0 when the material emits (triangle k's
+  // is first_emitter + k), else kNoEmitter.
+  uint32_t first_emitter = kNoEmitter;
 };
 
 // How many nodes place each mesh decides baking or instancing: a mesh placed once is baked
@@ -114,7 +118,7 @@ EmbreeScene::EmbreeScene(std::shared_ptr<EmbreeDevice> device, const SceneDescri
     prepare_meshes(&plan);
     add_prototypes(scene, materials, &plan);
     add_placed_meshes(scene, materials, &plan);
-    add_spheres(scene.spheres, options.spheres);
+    add_spheres(scene.spheres, options.spheres, materials);
     rtcCommitScene(scene_);
     errors.throw_if_failed();
   } catch (...) {
@@ -168,6 +172,34 @@ RTCScene EmbreeScene::new_scene() const {
 void EmbreeScene::record(unsigned geom_id, const GeometryRecord& record) {
   if (records_.size() <= geom_id) records_.resize(geom_id + 1);
   records_[geom_id] = record;
+}
+
+namespace {
+
+bool emits(int material, const std::vector<Material>& materials) {
+  if (material < 0 || static_cast<size_t>(material) >= materials.size()) return false;
+  const V3f& e = materials[static_cast<size_t>(material)].emissive;
+  return e.x > 0.0f || e.y > 0.0f || e.z > 0.0f;
+}
+
+}  // namespace
+
+uint32_t EmbreeScene::add_emitters(const PreparedMesh& mesh, const std::vector<Material>& materials,
+                                   const M44f* object_to_world) {
+  if (!emits(mesh.material, materials)) return kNoEmitter;
+  const auto first = static_cast<uint32_t>(emitters_.size());
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    EmissivePrimitive e;
+    e.material = mesh.material;
+    e.attributes = mesh.has_attributes ? &mesh.attributes : nullptr;
+    for (int k = 0; k < 3; ++k) {
+      e.vertices[k] = mesh.indices[3 * t + static_cast<size_t>(k)];
+      e.corners[k] = mesh.positions[e.vertices[k]];
+      if (object_to_world) object_to_world->multVecMatrix(V3f(e.corners[k]), e.corners[k]);
+    }
+    emitters_.push_back(e);
+  }
+  return first;
 }
 
 EmbreeScene::MeshPlan EmbreeScene::plan_meshes(const SceneDescription& scene) {
@@ -267,7 +299,8 @@ void EmbreeScene::add_placed_meshes(const SceneDescription& scene,
     if (!placement.placed) continue;
     const MeshInstance& node = scene.instances[i];
     if (!plan->baked(node.mesh)) {
-      add_instance(*plan->prototypes[static_cast<size_t>(node.mesh)], node, placement.to_shifted);
+      add_instance(*plan->prototypes[static_cast<size_t>(node.mesh)], node, placement.to_shifted,
+                   materials);
       continue;
     }
     const size_t end = placement.first_job + scene.meshes[node.mesh].primitives.size();
@@ -283,7 +316,8 @@ void EmbreeScene::add_baked_mesh(const SceneDescription& scene,
   if (mesh->indices.empty()) return;
   statistics_.triangles += mesh->triangle_count();
   const unsigned id = attach_triangles(scene_, *mesh, surface_filter(scene, *mesh, materials));
-  record(id, {GeometryRecord::Kind::triangles, mesh.get(), 0});
+  record(id,
+         {GeometryRecord::Kind::triangles, mesh.get(), 0, add_emitters(*mesh, materials, nullptr)});
   if (culling_.top_level.size() <= id) culling_.top_level.resize(id + 1, 0);
   culling_.top_level[id] = single_sided(scene, mesh->material);
   baked_.push_back(std::move(mesh));
@@ -291,7 +325,7 @@ void EmbreeScene::add_baked_mesh(const SceneDescription& scene,
 }
 
 void EmbreeScene::add_instance(const Prototype& prototype, const MeshInstance& node,
-                               const M44d& to_shifted) {
+                               const M44d& to_shifted, const std::vector<Material>& materials) {
   statistics_.triangles += prototype.triangles;
   statistics_.degenerate_triangles += prototype.degenerate;
   statistics_.nonfinite_triangles += prototype.nonfinite;
@@ -307,6 +341,9 @@ void EmbreeScene::add_instance(const Prototype& prototype, const MeshInstance& n
   rtcCommitGeometry(g);
   const unsigned id = rtcAttachGeometry(scene_, g);
   rtcReleaseGeometry(g);
+  for (const std::unique_ptr<PreparedMesh>& mesh : prototype.geometries)
+    instance.first_emitter.push_back(
+        mesh ? add_emitters(*mesh, materials, &instance.object_to_world) : kNoEmitter);
   record(id, {GeometryRecord::Kind::instance, nullptr, instances_.size()});
   if (culling_.instanced.size() <= id) culling_.instanced.resize(id + 1, nullptr);
   culling_.instanced[id] = &prototype.single_sided;
@@ -314,10 +351,25 @@ void EmbreeScene::add_instance(const Prototype& prototype, const MeshInstance& n
   ++statistics_.mesh_instances;
 }
 
-void EmbreeScene::add_spheres(const std::vector<Sphere>& spheres, const SphereOptions& options) {
+void EmbreeScene::add_spheres(const std::vector<Sphere>& spheres, const SphereOptions& options,
+                              const std::vector<Material>& materials) {
   spheres_ = spheres;
   for (Sphere& s : spheres_) s.centre -= world_origin_;
   statistics_.spheres = spheres_.size();
+  // Tessellated spheres emit as their triangles, below.
+  sphere_emitters_.assign(spheres_.size(), kNoEmitter);
+  if (options.mode != SphereMode::mesh) {
+    for (size_t i = 0; i < spheres_.size(); ++i) {
+      if (!emits(spheres_[i].material, materials)) continue;
+      sphere_emitters_[i] = static_cast<uint32_t>(emitters_.size());
+      EmissivePrimitive e;
+      e.shape = EmissivePrimitive::Shape::sphere;
+      e.corners[0] = V3f(spheres_[i].centre);
+      e.radius = static_cast<float>(spheres_[i].radius);
+      e.material = spheres_[i].material;
+      emitters_.push_back(e);
+    }
+  }
   if (spheres_.empty()) return;
   switch (options.mode) {
     case SphereMode::analytic:
@@ -336,7 +388,8 @@ void EmbreeScene::add_spheres(const std::vector<Sphere>& spheres, const SphereOp
         if (mesh->indices.empty()) continue;
         statistics_.triangles += mesh->triangle_count();
         record(attach_triangles(scene_, *mesh, nullptr),
-               {GeometryRecord::Kind::sphere_mesh, mesh.get(), i});
+               {GeometryRecord::Kind::sphere_mesh, mesh.get(), i,
+                add_emitters(*mesh, materials, nullptr)});
         baked_.push_back(std::move(mesh));
       }
       break;
@@ -506,6 +559,8 @@ void EmbreeScene::intersect_packet(const Ray* rays, int count, SurfaceHit* hits,
 inline void EmbreeScene::resolve_instance_hit(const Instance& instance, const RTCRayHit& rh,
                                               SurfaceHit* hit) const {
   fill_triangle_hit(*instance.prototype->geometries[rh.hit.geomID], rh, hit);
+  const uint32_t first = instance.first_emitter[rh.hit.geomID];
+  hit->emitter = first == kNoEmitter ? kNoEmitter : first + rh.hit.primID;
   // Everything above is in object space; normals move with the inverse transpose.
   V3f p;
   instance.object_to_world.multVecMatrix(hit->position, p);
@@ -557,6 +612,7 @@ inline void EmbreeScene::resolve_sphere_hit(bool embree_points, const Ray& ray, 
   hit->terminator_offset = V3f(0.0f);  // the surface is the smooth one already
   hit->material = s.material;
   hit->attributes = nullptr;
+  hit->emitter = sphere_emitters_[rh.hit.primID];
 }
 
 void EmbreeScene::resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* hit) const {
@@ -569,6 +625,7 @@ void EmbreeScene::resolve_hit(const Ray& ray, const RTCRayHit& rh, SurfaceHit* h
     case GeometryRecord::Kind::triangles:
     case GeometryRecord::Kind::sphere_mesh:
       fill_triangle_hit(*r.mesh, rh, hit);
+      hit->emitter = r.first_emitter == kNoEmitter ? kNoEmitter : r.first_emitter + rh.hit.primID;
       break;
     case GeometryRecord::Kind::instance:
       resolve_instance_hit(instances_[r.index], rh, hit);

@@ -80,6 +80,22 @@ struct GeometryStatistics {
   size_t normals_repaired = 0;  // zero or non-finite vertex normals rebuilt from the faces
 };
 
+// A triangle or sphere whose material emits, in the shifted frame: what the area lights are
+// made of (renderer/shading/area_lights.h). A hit on it names its index (SurfaceHit::emitter).
+struct EmissivePrimitive {
+  enum class Shape : uint8_t { triangle, sphere };
+  Shape shape = Shape::triangle;
+  Imath::V3f corners[3] = {
+      Imath::V3f(0.0f), Imath::V3f(0.0f),
+      Imath::V3f(0.0f)};  // a triangle's, counter-clockwise from the front; a sphere's centre first
+  float radius = 0.0f;    // sphere
+  int material = -1;
+  // Where a sampled point reads an emissive texture: the mesh's attributes (null without
+  // any) and the triangle's vertex indices into them.
+  const VertexAttributes* attributes = nullptr;
+  uint32_t vertices[3] = {0, 0, 0};
+};
+
 class EmbreeScene {
  public:
   // Throws std::runtime_error if Embree fails (with Embree's message). `materials` are the
@@ -118,6 +134,9 @@ class EmbreeScene {
   Imath::Box3f bounds() const { return bounds_; }
   const Imath::V3d& world_origin() const { return world_origin_; }
   const GeometryStatistics& statistics() const { return statistics_; }
+  // Every primitive whose material emits (Material::emissive non-zero), in a fixed order: baked
+  // meshes, instances and spheres as they are attached, each mesh's triangles in order.
+  const std::vector<EmissivePrimitive>& emitters() const { return emitters_; }
   const std::shared_ptr<EmbreeDevice>& device() const { return device_; }
 
  private:
@@ -137,11 +156,17 @@ class EmbreeScene {
   // One per geometry kind; each attaches to the top-level scene and records what it added.
   void add_baked_mesh(const SceneDescription& scene, const std::vector<Material>& materials,
                       std::unique_ptr<PreparedMesh> mesh);
-  void add_instance(const Prototype& prototype, const MeshInstance& node, const M44d& to_shifted);
-  void add_spheres(const std::vector<Sphere>& spheres, const SphereOptions& options);
+  void add_instance(const Prototype& prototype, const MeshInstance& node, const M44d& to_shifted,
+                    const std::vector<Material>& materials);
 
   RTCScene new_scene() const;  // with the flags and build quality every BVH here shares
   void record(unsigned geom_id, const GeometryRecord& record);
+  // Appends the mesh's triangles to emitters_ if its material emits; returns the first one's
+  // index, or kNoEmitter.
+  uint32_t add_emitters(const PreparedMesh& mesh, const std::vector<Material>& materials,
+                        const Imath::M44f* object_to_world);
+  void add_spheres(const std::vector<Sphere>& spheres, const SphereOptions& options,
+                   const std::vector<Material>& materials);
   // `filter`: the mesh's alpha and culling rule, or null for none (spheres).
   unsigned attach_triangles(RTCScene scene, const PreparedMesh& mesh, const SurfaceFilter* filter);
   // The filter the mesh's material needs, kept in filters_; null when it needs none.
@@ -175,6 +200,8 @@ class EmbreeScene {
   std::vector<std::unique_ptr<SurfaceFilter>> filters_;  // Embree's user data: must not move
   BackFaceCulling culling_;
   std::vector<Sphere> spheres_;
+  std::vector<uint32_t> sphere_emitters_;  // by sphere: its emitter, or kNoEmitter
+  std::vector<EmissivePrimitive> emitters_;
   unsigned analytic_spheres_geom_ = RTC_INVALID_GEOMETRY_ID;
   Imath::Box3f bounds_;
   Imath::V3d world_origin_{0.0, 0.0, 0.0};

@@ -24,6 +24,9 @@ struct VertexAttributes {
   }
 };
 
+// SurfaceHit::emitter of a surface that emits nothing.
+inline constexpr uint32_t kNoEmitter = ~uint32_t(0);
+
 struct SurfaceHit {
   float t = 0.0f;
   Imath::V3f position;          // on the surface, rebuilt from the primitive, not o + t d
@@ -36,7 +39,10 @@ struct SurfaceHit {
   // How far the intersector itself may misplace the surface, beyond the hit point's
   // rounding: a ray must leave by more than this (offset_ray_origin's third argument).
   float surface_error = 0.0f;
-  int material = -1;       // index into the scene's materials, -1 = default
+  int material = -1;  // index into the scene's materials, -1 = default
+  // The emissive primitive hit (EmbreeScene::emitters()), kNoEmitter when the material emits
+  // nothing: a path tracer weighs the light a ray finds by that light's own sampling density.
+  uint32_t emitter = kNoEmitter;
   bool back_face = false;  // the ray arrived from behind (e.g. from inside a sphere)
 
   // Where on which triangle, for the attributes: null on spheres and on meshes without any.

@@ -64,7 +64,9 @@ struct BsdfLobes {
   float alpha = 1.0f;           // GGX alpha = roughness^2
   float phong_exponent = 0.0f;  // the lecture model's n
   bool mirror = false;          // the layer's delta reflection is present
-  float transmission = 0.0f;    // (1 - m) T: weight of the smooth dielectric part
+  // The mirror carries all of the layer's light: eval() leaves the GGX lobe out (path_traced()).
+  bool mirror_only = false;
+  float transmission = 0.0f;  // (1 - m) T: weight of the smooth dielectric part
   float ior = 1.5f;
   Imath::V3f transmission_tint{1.0f};  // colour of light passing in (the base colour)
 };
@@ -86,7 +88,7 @@ struct SpecularLobe {
 
 struct BsdfSample {
   Imath::V3f wi;
-  Imath::V3f f;      // the BSDF's value (for a delta lobe: the weight times pdf / |cos|)
+  Imath::V3f f;      // the BSDF's value (for a delta lobe: its weight / |cos|, pbrt's convention)
   float pdf = 0.0f;  // per unit solid angle; for a delta lobe, the probability of choosing it
   uint8_t lobe = 0;  // the one BsdfLobe bit sampled
   bool specular() const { return (lobe & kSpecularLobes) != 0; }
@@ -100,6 +102,19 @@ class Bsdf {
       : normal_(shading_normal), lobes_(lobes) {}
 
   const BsdfLobes& lobes() const { return lobes_; }
+
+  // The BSDF as a path tracer samples it, where every lobe's light is found by some ray and
+  // none may be counted twice: the layer is a delta mirror only where GGX cannot be evaluated
+  // (alpha below kMinGgxAlpha: glTF's alpha = 0, a perfect mirror), and then the mirror alone,
+  // eval() and pdf() leaving its GGX lobe out; everywhere else the layer is its GGX lobe,
+  // sampled by the visible normals. The Whitted integrators' mirror above kMinGgxAlpha (up to
+  // kMirrorRoughness) is an approximation they make, not the material.
+  Bsdf path_traced() const {
+    Bsdf b = *this;
+    b.lobes_.mirror = lobes_.model == BrdfModel::gltf && lobes_.alpha < kMinGgxAlpha;
+    b.lobes_.mirror_only = b.lobes_.mirror;
+    return b;
+  }
   const Imath::V3f& shading_normal() const { return normal_; }
   // The shading normal on wo's side: the hemisphere the reflection lobes live in.
   Imath::V3f normal_towards(const Imath::V3f& wo) const { return face_forward(normal_, wo); }
@@ -128,6 +143,7 @@ class Bsdf {
     const Imath::V3f fresnel_d =
         lobes_.dielectric_f0 + (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * weight;
     const Imath::V3f diffuse = lobes_.diffuse_albedo * (kInvPi * (1.0f - max_of(fresnel_d)));
+    if (lobes_.mirror_only) return diffuse;
     const float alpha = std::fmax(lobes_.alpha, kMinGgxAlpha);
     const float dv = ggx_d(dot(n, h), alpha) * ggx_visibility(cos_i, cos_o, alpha);
     const Imath::V3f fresnel =
@@ -198,7 +214,8 @@ class Bsdf {
       const float cos_wi = std::fabs(dot(n, lobes[k].wi));
       out->wi = lobes[k].wi;
       out->pdf = p;
-      out->f = cos_wi > 0.0f ? lobes[k].weight() * (p / cos_wi) : Imath::V3f(0.0f);
+      // f |cos| / pdf = weight / p: the lobe's weight divided by the chance of choosing it.
+      out->f = cos_wi > 0.0f ? lobes[k].weight() / cos_wi : Imath::V3f(0.0f);
       out->lobe = lobes[k].transmission ? kSpecularTransmission : kSpecularReflection;
       return cos_wi > 0.0f;
     }

@@ -22,6 +22,9 @@ class LightSampler {
   // `scene_radius` sizes directional lights' power (LightSource::power). Lights of zero or
   // non-finite power are never chosen; if every light is so, each is chosen uniformly.
   LightSampler(const std::vector<LightSource>& lights, float scene_radius);
+  // Over any items, by their weights (non-negative; non-finite counts as zero), with the same
+  // fallback to a uniform choice when none is positive.
+  explicit LightSampler(std::vector<double> weights);
 
   bool empty() const { return cdf_.empty(); }
   // The light whose share of the cumulative power contains u in [0, 1); false when there

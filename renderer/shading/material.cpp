@@ -125,7 +125,19 @@ V3f bend_normal(const SurfaceHit& hit, const V4f& texel, float scale) {
   return bent;
 }
 
+// emissiveFactor x emissiveTexture.
+Rgb emission_of(const Material& material, SlotReader& read) {
+  if (!material.emissive_texture.texture) return material.emissive;
+  const V4f t = read.sample(material.emissive_texture);
+  return hadamard(material.emissive, Rgb(t.x, t.y, t.z));
+}
+
 }  // namespace
+
+Rgb emitted_radiance(const Material& material, const SurfaceHit& hit) {
+  SlotReader read(hit);
+  return emission_of(material, read);
+}
 
 float phong_exponent_from_roughness(float roughness) {
   const float alpha = std::max(roughness * roughness, 1e-4f);
@@ -199,11 +211,7 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
     roughness *= t.y;  // glTF: roughness in green, metallic in blue
     metallic *= t.z;
   }
-  Rgb emission = material.emissive;
-  if (material.emissive_texture.texture) {
-    const V4f t = read.sample(material.emissive_texture);
-    emission = hadamard(emission, Rgb(t.x, t.y, t.z));
-  }
+  const Rgb emission = emission_of(material, read);
 
   // glTF's mix(dielectric_brdf, metal_brdf, metallic): the metal's layer reflects the base
   // colour (conductor_fresnel), the dielectric's F0 from the ior, tinted and weighted by

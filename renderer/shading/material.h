@@ -86,6 +86,10 @@ Material make_material(const MaterialDescription& description, const std::vector
 // occlusion map.
 SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit);
 
+// The radiance the material emits at a hit (emissiveFactor x emissiveTexture), what evaluate
+// puts in SurfaceResponse::emission, without the rest: for points sampled on an area light.
+Rgb emitted_radiance(const Material& material, const SurfaceHit& hit);
+
 // The base colour's alpha at a hit (baseColorFactor x texture x COLOR_0), for alpha modes,
 // without the rest of evaluate. The texture is read at its finest level.
 float base_colour_alpha(const Material& material, const SurfaceHit& hit);

@@ -1,0 +1,218 @@
+// Area lights (renderer/shading/area_lights.h) and the choice among every light
+// (renderer/shading/emitter_sampler.h): sample() draws directions with the density pdf()
+// reports (a chi-square test over the sphere of directions, as for the BSDFs), the density
+// integrates to 1 over the light's solid angle, and lights are chosen in proportion to power.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "renderer/image/colour.h"
+#include "renderer/shading/area_lights.h"
+#include "renderer/shading/emitter_sampler.h"
+
+namespace prism {
+namespace {
+
+constexpr double kPiD = std::numbers::pi;
+
+V3f spherical(double cos_theta, double phi) {
+  const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  return V3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(cos_theta));
+}
+
+double chi_square_p_value(double chi2, int k) {
+  // Wilson-Hilferty, as tests/bsdf_test.cpp.
+  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+struct ChiSquare {
+  double p_value = 0.0;
+  double pdf_integral = 0.0;  // pdf() over the sphere of directions
+};
+
+// Histograms the light's sampled directions from `point` over a (cos theta, phi) grid and
+// compares it with pdf() integrated over each cell, pooling cells expecting fewer than 5.
+ChiSquare chi_square(const AreaLight& light, const V3f& point, int samples) {
+  constexpr int kTheta = 80, kPhi = 160, kSub = 16;
+  std::vector<double> observed(kTheta * kPhi, 0.0), expected(kTheta * kPhi, 0.0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  for (int i = 0; i < samples; ++i) {
+    LightSample s;
+    if (!light.sample(point, Imath::V2f(u01(rng), u01(rng)), &s)) continue;
+    const double c = std::clamp(double(s.wi.z), -1.0, 1.0);
+    double phi = std::atan2(double(s.wi.y), double(s.wi.x));
+    if (phi < 0) phi += 2 * kPiD;
+    const int t = std::min(kTheta - 1, int((c + 1.0) * 0.5 * kTheta));
+    const int p = std::min(kPhi - 1, int(phi / (2 * kPiD) * kPhi));
+    observed[size_t(t * kPhi + p)] += 1.0;
+  }
+  ChiSquare result;
+  const double cell = (2.0 / kTheta) * (2 * kPiD / kPhi);
+  // The midpoint rule over a cell: 16 x 16 points, or 128 x 128 where the light's edge
+  // crosses the cell (some points see it, some do not), whose coarse estimate would be off by
+  // far more than the test's noise.
+  const auto cell_mass = [&](int t, int p, int sub) {
+    double integral = 0.0;
+    bool some = false, all = true;
+    for (int a = 0; a < sub; ++a)
+      for (int b = 0; b < sub; ++b) {
+        const double c = -1.0 + (t + (a + 0.5) / sub) * 2.0 / kTheta;
+        const double phi = (p + (b + 0.5) / sub) * 2 * kPiD / kPhi;
+        const double value = light.pdf(point, spherical(c, phi));
+        integral += value;
+        if (value > 0.0)
+          some = true;
+        else
+          all = false;
+      }
+    return std::pair(integral / (sub * sub), some && !all);
+  };
+  for (int t = 0; t < kTheta; ++t)
+    for (int p = 0; p < kPhi; ++p) {
+      auto [mean, edge] = cell_mass(t, p, kSub);
+      if (edge) mean = cell_mass(t, p, 8 * kSub).first;
+      const double mass = mean * cell;
+      result.pdf_integral += mass;
+      expected[size_t(t * kPhi + p)] = mass * samples;
+    }
+  double chi2 = 0.0, pooled_obs = 0.0, pooled_exp = 0.0;
+  int dof = -1;
+  for (size_t i = 0; i < expected.size(); ++i) {
+    if (expected[i] < 5.0) {
+      pooled_obs += observed[i];
+      pooled_exp += expected[i];
+      continue;
+    }
+    chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
+    ++dof;
+  }
+  if (pooled_exp >= 5.0) {
+    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+    ++dof;
+  }
+  result.p_value = chi_square_p_value(chi2, std::max(dof, 1));
+  return result;
+}
+
+Material emitting(float radiance) {
+  Material m;
+  m.emissive = V3f(radiance);
+  return m;
+}
+
+EmissivePrimitive triangle(const V3f& a, const V3f& b, const V3f& c) {
+  EmissivePrimitive e;
+  e.corners[0] = a;
+  e.corners[1] = b;
+  e.corners[2] = c;
+  return e;
+}
+
+EmissivePrimitive sphere(const V3f& centre, float radius) {
+  EmissivePrimitive e;
+  e.shape = EmissivePrimitive::Shape::sphere;
+  e.corners[0] = centre;
+  e.radius = radius;
+  return e;
+}
+
+TEST(AreaLights, TriangleSamplingMatchesPdfChiSquare) {
+  const Material m = emitting(1.0f);
+  const AreaLight light(
+      triangle(V3f(-1.0f, -0.5f, 1.0f), V3f(1.5f, -0.2f, 1.2f), V3f(0.2f, 1.3f, 0.6f)), m);
+  for (const V3f& point : {V3f(0.0f), V3f(0.3f, -0.4f, 2.5f), V3f(0.2f, 0.3f, -1.5f)}) {
+    const ChiSquare c = chi_square(light, point, 1000000);
+    std::printf("triangle from (%g, %g, %g): chi-square p = %.4f, pdf integral %.5f\n", point.x,
+                point.y, point.z, c.p_value, c.pdf_integral);
+    EXPECT_GT(c.p_value, 1e-3);
+    EXPECT_NEAR(c.pdf_integral, 1.0, 0.01);
+  }
+}
+
+TEST(AreaLights, SphereSamplingMatchesPdfChiSquare) {
+  const Material m = emitting(1.0f);
+  // Outside (the cone, wide and narrow, where the small-angle form takes over) and inside.
+  struct Case {
+    V3f centre;
+    float radius;
+  };
+  for (const Case& k : {Case{V3f(0.0f, 0.0f, 2.0f), 1.0f}, Case{V3f(1.0f, 0.5f, -1.5f), 1.7f},
+                        Case{V3f(0.0f, 0.0f, 1.0f), 2.0f}}) {
+    const AreaLight light(sphere(k.centre, k.radius), m);
+    const ChiSquare c = chi_square(light, V3f(0.0f), 1000000);
+    std::printf("sphere r %g at distance %g: chi-square p = %.4f, pdf integral %.5f\n", k.radius,
+                k.centre.length(), c.p_value, c.pdf_integral);
+    EXPECT_GT(c.p_value, 1e-3);
+    EXPECT_NEAR(c.pdf_integral, 1.0, 0.01);
+  }
+  // A sphere subtending less than 1.5 degrees: the density is the cone's, 1 / (2 pi (1 - cos)).
+  const AreaLight small(sphere(V3f(0.0f, 0.0f, 100.0f), 1.0f), m);
+  LightSample s;
+  ASSERT_TRUE(small.sample(V3f(0.0f), Imath::V2f(0.3f, 0.6f), &s));
+  const double cone = 2.0 * kPiD * (1.0 - std::sqrt(1.0 - 1e-4));
+  EXPECT_NEAR(s.pdf * cone, 1.0, 1e-3);
+  EXPECT_NEAR(small.pdf(V3f(0.0f), s.wi) * cone, 1.0, 1e-3);
+}
+
+TEST(AreaLights, PowerIsPiAreaRadiance) {
+  const Material m = emitting(2.0f);
+  const AreaLight t(triangle(V3f(0.0f), V3f(2.0f, 0.0f, 0.0f), V3f(0.0f, 1.0f, 0.0f)), m);
+  EXPECT_FLOAT_EQ(t.area(), 1.0f);
+  EXPECT_NEAR(t.power().x, 2.0 * kPiD * 1.0 * 2.0, 1e-4);  // both faces
+  const AreaLight s(sphere(V3f(0.0f), 0.5f), m);
+  EXPECT_NEAR(s.power().x, kPiD * (4.0 * kPiD * 0.25) * 2.0, 1e-4);
+}
+
+// One table over punctual, area and environment lights: each chosen with probability power /
+// total, checked exactly through pmf and empirically over stratified u.
+TEST(EmitterSampler, ChoosesEveryKindInProportionToPower) {
+  const Material bright = emitting(3.0f), dim = emitting(0.5f);
+  std::vector<AreaLight> area;
+  area.emplace_back(triangle(V3f(0.0f), V3f(1.0f, 0.0f, 0.0f), V3f(0.0f, 1.0f, 0.0f)), bright);
+  area.emplace_back(triangle(V3f(0.0f), V3f(3.0f, 0.0f, 0.0f), V3f(0.0f, 1.0f, 0.0f)), dim);
+  area.emplace_back(sphere(V3f(0.0f), 0.2f), bright);
+  std::vector<LightSource> punctual;
+  Light point;
+  point.intensity = 2.0f;
+  punctual.emplace_back(point, ColourPipeline(WorkingSpace::linear_rec709));
+  const Environment environment(V3f(0.01f));
+  const float radius = 2.0f;
+  const EmitterSampler sampler(punctual, area, environment, radius);
+  std::vector<double> power = {punctual[0].power(radius).x};
+  for (const AreaLight& a : area) power.push_back(a.power().x);
+  power.push_back(environment.power(radius).x);
+  double total = 0.0;
+  for (double p : power) total += p;
+  constexpr int kDraws = 1 << 20;
+  std::vector<double> drawn(power.size(), 0.0);
+  for (int i = 0; i < kDraws; ++i) {
+    ChosenEmitter c;
+    ASSERT_TRUE(sampler.sample((i + 0.5f) / kDraws, &c));
+    const size_t slot = c.kind == EmitterKind::punctual ? 0
+                        : c.kind == EmitterKind::area   ? 1 + c.index
+                                                        : power.size() - 1;
+    drawn[slot] += 1.0;
+  }
+  const float pmfs[] = {0.0f, sampler.pmf_area(0), sampler.pmf_area(1), sampler.pmf_area(2),
+                        sampler.pmf_environment()};
+  for (size_t i = 0; i < power.size(); ++i) {
+    std::printf("light %zu: power share %.5f, drawn %.5f, pmf %.5f\n", i, power[i] / total,
+                drawn[i] / kDraws, i == 0 ? power[0] / total : pmfs[i]);
+    EXPECT_NEAR(drawn[i] / kDraws, power[i] / total, 2.0 / kDraws + 1e-6);
+    if (i > 0) {
+      EXPECT_NEAR(pmfs[i], power[i] / total, 1e-6);
+    }
+  }
+  // A black environment is never chosen.
+  const EmitterSampler dark(punctual, area, Environment(), radius);
+  EXPECT_EQ(dark.pmf_environment(), 0.0f);
+}
+
+}  // namespace
+}  // namespace prism

@@ -1,0 +1,307 @@
+// The path integrator against analytic answers (pbrt-v4's integrators_test cases, furnaces,
+// irradiance under area lights), its three light strategies against each other, Russian
+// roulette against none, and its determinism. Each test prints what it measured, with the
+// noise its bound is made of: docs/accuracy.md lists the figures.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+
+#include "integrators/registry.h"
+#include "tests/test_scenes.h"
+
+namespace prism {
+namespace {
+
+using testing::lambert_like;
+using testing::ortho_camera_looking_down_y;
+using testing::ortho_camera_looking_down_z;
+using testing::quad_mesh;
+
+constexpr double kPiD = std::numbers::pi;
+
+// The image's mean red value and the standard error of that mean: pixels are independent
+// (each has its own scrambled samples), so the error is their spread over sqrt(count).
+struct Estimate {
+  double mean = 0.0;
+  double error = 0.0;
+};
+
+Estimate estimate(const Image& image) {
+  double sum = 0.0, sum2 = 0.0;
+  const double n = double(image.width) * image.height;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const double v = image.pixel(x, y)[0];
+      sum += v;
+      sum2 += v * v;
+    }
+  const double mean = sum / n;
+  const double variance = std::max(0.0, sum2 / n - mean * mean);
+  return {mean, std::sqrt(variance / (n - 1.0))};
+}
+
+struct PathSettings {
+  int max_depth = 64;
+  int roulette_depth = 3;
+  int strategy = 0;
+};
+
+testing::Rendered render_path(const SceneDescription& scene, testing::TestSettings settings,
+                              const PathSettings& path = {}) {
+  const IntegratorInfo* info = find_integrator("path");
+  EXPECT_NE(info, nullptr);
+  const ConfiguredIntegrator c =
+      configure_integrator(*info, {{"max-depth", path.max_depth},
+                                   {"roulette-depth", path.roulette_depth},
+                                   {"strategy", path.strategy}});
+  return testing::render_scene(scene, *c.integrator, settings);
+}
+
+testing::TestSettings film(int size, int spp) {
+  testing::TestSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  return s;
+}
+
+// Asserts |measured - exact| within four standard errors, plus float rounding (2e-5 of the
+// value: samples are formed and summed in float; the sphere's cone sampling, whose estimate is
+// all but noiseless, measured 1e-5), and prints the figures.
+void expect_close(const char* what, const Estimate& e, double exact) {
+  std::printf("%s: %.6f +- %.6f (exact %.6f, error %+.6f = %.2f sigma)\n", what, e.mean, e.error,
+              exact, e.mean - exact, (e.mean - exact) / std::max(e.error, 1e-12));
+  EXPECT_NEAR(e.mean, exact, 4.0 * e.error + 2e-5 * exact) << what;
+}
+
+MaterialDescription emissive(float radiance, float albedo = 0.0f) {
+  MaterialDescription m = lambert_like(albedo);
+  m.emissive = C3f(radiance, radiance, radiance);
+  return m;
+}
+
+// pbrt-v4's RadianceMatches: inside a closed diffuse sphere of albedo 0.5 that emits 0.5,
+// the radiance everywhere is L = Le / (1 - rho) = 1; with a point light of pi candela at its
+// centre instead (E = pi on the wall, L_direct = rho E / pi = 0.5), L = 0.5 / (1 - rho) = 1.
+TEST(PathIntegrator, InsideAnEmissiveDiffuseSphereRadianceIsOne) {
+  SceneDescription scene;
+  scene.materials.push_back(emissive(0.5f, 0.5f));
+  scene.spheres.push_back(Sphere{V3d(0.0), 1.0, 0, "sphere"});
+  scene.cameras.push_back(ortho_camera_looking_down_z(0.0, 0.5));
+  const char* names[] = {"emissive sphere, albedo 0.5, Le 0.5, MIS",
+                         "emissive sphere, albedo 0.5, Le 0.5, light samples only",
+                         "emissive sphere, albedo 0.5, Le 0.5, BSDF samples only"};
+  for (int strategy = 0; strategy < 3; ++strategy)
+    expect_close(names[strategy],
+                 estimate(render_path(scene, film(32, 64), {64, 3, strategy}).image), 1.0);
+}
+
+TEST(PathIntegrator, InsideADiffuseSphereAroundAPointLightRadianceIsOne) {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(0.5f));
+  scene.spheres.push_back(Sphere{V3d(0.0), 1.0, 0, "sphere"});
+  scene.lights.push_back(testing::point_light(V3d(0.0), float(kPiD)));
+  scene.cameras.push_back(ortho_camera_looking_down_z(0.0, 0.5));
+  expect_close("point light pi cd in a sphere of albedo 0.5",
+               estimate(render_path(scene, film(32, 64)).image), 1.0);
+}
+
+// The white furnace: lossless white materials (Lambert, a perfect mirror, clear glass) under
+// a uniform environment of radiance 1 send 1 back everywhere, the misses too.
+TEST(PathIntegrator, WhiteFurnaceIsOneEverywhere) {
+  MaterialDescription mirror;
+  mirror.metallic = 1.0f;
+  mirror.roughness = 0.0f;
+  MaterialDescription glass = lambert_like(1.0f);
+  glass.roughness = 0.0f;
+  glass.specular = 1.0f;
+  glass.transmission = 1.0f;
+  const std::pair<const char*, MaterialDescription> materials[] = {
+      {"furnace: white Lambert sphere", lambert_like(1.0f)},
+      {"furnace: white perfect mirror sphere", mirror},
+      {"furnace: clear glass sphere", glass}};
+  for (const auto& [name, material] : materials) {
+    SceneDescription scene;
+    scene.materials.push_back(material);
+    scene.spheres.push_back(Sphere{V3d(0.0), 1.0, 0, "sphere"});
+    scene.cameras.push_back(ortho_camera_looking_down_z(3.0, 0.9));
+    testing::TestSettings s = film(32, 32);
+    s.background = V3f(1.0f);
+    const testing::Rendered r = render_path(scene, s);
+    const Estimate e = estimate(r.image);
+    expect_close(name, e, 1.0);
+    // Every pixel, not only the mean: none strays beyond the noise of its 32 samples.
+    double worst = 0.0;
+    for (int y = 0; y < r.image.height; ++y)
+      for (int x = 0; x < r.image.width; ++x)
+        worst = std::max(worst, std::fabs(double(r.image.pixel(x, y)[0]) - 1.0));
+    std::printf("  worst pixel |L - 1| = %.4f\n", worst);
+    EXPECT_LT(worst, 0.25) << name;
+  }
+}
+
+// A Lambert floor (rho = 0.5) under an emissive sphere of radius R, radiance Le, centre at
+// height d: the irradiance below it is pi Le (R / d)^2, so the floor sends rho Le (R / d)^2.
+SceneDescription floor_under_sphere() {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(0.5f));
+  scene.materials.push_back(emissive(2.0f));
+  scene.meshes.push_back(quad_mesh(50.0f, 0.0f, 0));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  scene.spheres.push_back(Sphere{V3d(0.0, 3.0, 0.0), 1.0, 1, "lamp"});
+  scene.cameras.push_back(ortho_camera_looking_down_y(0.5, 0.02));
+  return scene;
+}
+
+// The same floor under a square of side 2 at height 2 made of two emissive triangles: the
+// form factor from a point below a corner of an a x b rectangle at height h is
+// (1 / 2 pi) [A / sqrt(1 + A^2) atan(B / sqrt(1 + A^2)) + B / sqrt(1 + B^2) atan(A / sqrt(1 +
+// B^2))] with A = a / h, B = b / h; four such corners meet below the centre, and the floor sends
+// rho Le F.
+SceneDescription floor_under_square() {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(0.5f));
+  scene.materials.push_back(emissive(1.0f));
+  scene.meshes.push_back(quad_mesh(50.0f, 0.0f, 0));
+  scene.meshes.push_back(quad_mesh(1.0f, 2.0f, 1));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  scene.instances.push_back(MeshInstance{1, M44d(), "panel"});
+  scene.cameras.push_back(ortho_camera_looking_down_y(0.5, 0.02));
+  return scene;
+}
+
+double square_form_factor(double half, double h) {
+  const double a = half / h;
+  const double s = std::sqrt(1.0 + a * a);
+  return 4.0 * (2.0 * a / s * std::atan(a / s)) / (2.0 * kPiD);
+}
+
+TEST(PathIntegrator, FloorUnderAnEmissiveSphereMatchesTheClosedForm) {
+  // At a distance r from the point below the centre the floor sends
+  // rho Le R^2 d / (d^2 + r^2)^(3/2); the image is the mean of that over the camera's square.
+  double exact = 0.0;
+  constexpr int kCells = 200;
+  for (int i = 0; i < kCells; ++i)
+    for (int j = 0; j < kCells; ++j) {
+      const double x = -0.02 + 0.04 * (i + 0.5) / kCells, z = -0.02 + 0.04 * (j + 0.5) / kCells;
+      exact += 0.5 * 2.0 * 3.0 / std::pow(9.0 + x * x + z * z, 1.5);
+    }
+  exact /= kCells * kCells;
+  const char* names[] = {"sphere lamp, MIS", "sphere lamp, light samples only",
+                         "sphere lamp, BSDF samples only"};
+  for (int strategy = 0; strategy < 3; ++strategy)
+    expect_close(names[strategy],
+                 estimate(render_path(floor_under_sphere(), film(32, 64), {1, 3, strategy}).image),
+                 exact);
+}
+
+TEST(PathIntegrator, FloorUnderAnEmissiveSquareMatchesTheClosedForm) {
+  const double exact = 0.5 * 1.0 * square_form_factor(1.0, 2.0);
+  const char* names[] = {"square lamp, MIS", "square lamp, light samples only",
+                         "square lamp, BSDF samples only"};
+  for (int strategy = 0; strategy < 3; ++strategy)
+    expect_close(names[strategy],
+                 estimate(render_path(floor_under_square(), film(32, 64), {1, 3, strategy}).image),
+                 exact);
+}
+
+// A scene with a small and a large area light, a point light and an environment, glossy and
+// diffuse surfaces, several bounces: MIS, light sampling alone and BSDF sampling alone agree
+// within their combined noise, and MIS is the least noisy.
+SceneDescription mixed_lights_scene() {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(0.6f));
+  MaterialDescription glossy;
+  glossy.base_colour = C3f(0.9f, 0.8f, 0.6f);
+  glossy.metallic = 1.0f;
+  glossy.roughness = 0.35f;
+  scene.materials.push_back(glossy);
+  scene.materials.push_back(emissive(40.0f));
+  scene.materials.push_back(emissive(0.8f));
+  scene.meshes.push_back(quad_mesh(4.0f, 0.0f, 0));
+  scene.meshes.push_back(quad_mesh(1.5f, 3.0f, 3));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  scene.instances.push_back(MeshInstance{1, M44d(), "big panel"});
+  scene.spheres.push_back(Sphere{V3d(0.0, 0.8, 0.0), 0.8, 1, "glossy ball"});
+  scene.spheres.push_back(Sphere{V3d(1.5, 1.5, 1.0), 0.08, 2, "small lamp"});
+  scene.lights.push_back(testing::point_light(V3d(-2.0, 2.5, 1.0), 3.0f));
+  CameraDescription camera;  // perspective, looking down at the ball from the front
+  camera.camera_to_world.setAxisAngle(V3d(1.0, 0.0, 0.0), -0.35);
+  camera.camera_to_world[3][0] = 0.0;
+  camera.camera_to_world[3][1] = 2.5;
+  camera.camera_to_world[3][2] = 5.5;
+  scene.cameras.push_back(camera);
+  return scene;
+}
+
+// The mean of b - a over the pixels and its standard error: the images' own structure cancels
+// in the differences, which leaves the two estimates' noise.
+Estimate difference(const Image& a, const Image& b) {
+  double sum = 0.0, sum2 = 0.0;
+  const double n = double(a.width) * a.height;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const double d = double(b.pixel(x, y)[0]) - a.pixel(x, y)[0];
+      sum += d;
+      sum2 += d * d;
+    }
+  const double mean = sum / n;
+  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1.0))};
+}
+
+TEST(PathIntegrator, MisLightOnlyAndBsdfOnlyAgree) {
+  testing::TestSettings s = film(48, 64);
+  s.background = V3f(0.2f);
+  const char* names[] = {"mixed lights, MIS", "mixed lights, light samples only",
+                         "mixed lights, BSDF samples only"};
+  Image images[3];
+  for (int strategy = 0; strategy < 3; ++strategy) {
+    images[strategy] = render_path(mixed_lights_scene(), s, {8, 3, strategy}).image;
+    std::printf("%s: image mean %.5f\n", names[strategy], estimate(images[strategy]).mean);
+  }
+  for (int k = 1; k < 3; ++k) {
+    const Estimate d = difference(images[0], images[k]);
+    std::printf("  %s - MIS = %+.5f +- %.5f (%.2f sigma)\n", names[k], d.mean, d.error,
+                d.mean / d.error);
+    EXPECT_NEAR(d.mean, 0.0, 4.0 * d.error) << names[k];
+  }
+}
+
+// Russian roulette changes the noise, not the mean: a closed grey box lit by a panel, with
+// roulette after 3 bounces and without (both stopped at 32).
+TEST(PathIntegrator, RussianRouletteIsUnbiased) {
+  SceneDescription scene;
+  scene.materials.push_back(lambert_like(0.7f));
+  scene.materials.push_back(emissive(5.0f));
+  scene.spheres.push_back(Sphere{V3d(0.0), 2.0, 0, "room"});
+  scene.spheres.push_back(Sphere{V3d(0.0, 1.2, 1.0), 0.2, 1, "lamp"});  // behind the camera
+  scene.cameras.push_back(ortho_camera_looking_down_z(0.0, 1.0));
+  const Image with = render_path(scene, film(32, 64), {32, 3, 0}).image;
+  const Image without = render_path(scene, film(32, 64), {32, 1024, 0}).image;
+  const Estimate d = difference(without, with);
+  std::printf("roulette after 3: %.5f; none: %.5f; difference %+.5f +- %.5f (%.2f sigma)\n",
+              estimate(with).mean, estimate(without).mean, d.mean, d.error, d.mean / d.error);
+  EXPECT_NEAR(d.mean, 0.0, 4.0 * d.error);
+}
+
+TEST(PathIntegrator, ImageIsBitIdenticalAcrossThreadsAndTiles) {
+  testing::TestSettings s = film(40, 4);
+  s.width = 45;
+  s.background = V3f(0.2f);
+  s.threads = 1;
+  s.tile_size = 8;
+  const testing::Rendered one = render_path(mixed_lights_scene(), s, {8, 3, 0});
+  s.threads = 2;
+  s.tile_size = 16;
+  const testing::Rendered two = render_path(mixed_lights_scene(), s, {8, 3, 0});
+  ASSERT_EQ(one.image.rgba.size(), two.image.rgba.size());
+  EXPECT_EQ(0, std::memcmp(one.image.rgba.data(), two.image.rgba.data(),
+                           one.image.rgba.size() * sizeof(float)));
+  EXPECT_EQ(one.result.rays.total(), two.result.rays.total());
+  EXPECT_GT(one.result.rays[RayKind::bounce], 0u);
+}
+
+}  // namespace
+}  // namespace prism
