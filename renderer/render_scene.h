@@ -47,7 +47,7 @@ class RenderScene {
   // hit instead of visiting them all (renderer/shading/light_sampler.h).
   const LightSampler& light_sampler() const { return light_sampler_; }
   const Environment& environment() const { return environment_; }
-  // The environment changes nothing the build made: a render scene takes each job's own.
+  // The environment changes nothing the build made: a render scene takes each job's own
   // (and the light choices that weigh it against the scene's lights follow).
   void set_environment(const Environment& environment);
   // The emissive triangles and spheres as lights, indexed by SurfaceHit::emitter.
