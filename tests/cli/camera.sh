@@ -46,6 +46,16 @@ PY
 "$PRISM" render "$SCENE" -o "$TMP/shifted.exr" --res 32x24 --look-from 0,1,12 -q || fail "--look-from alone"
 [[ "$(attr "$TMP/shifted.exr" cameraPosition)" == "0,1,12" ]] || fail "--look-from alone: at $(attr "$TMP/shifted.exr" cameraPosition)"
 
+# A job file takes the same, as keys.
+cat >"$TMP/jobs.json" <<JOBS
+{"version": 1, "jobs": [
+  {"name": "auto", "scene": "$SCENE", "camera": "auto", "res": "32x24", "output": "$TMP/job-auto.exr"},
+  {"name": "moved", "scene": "$SCENE", "look-from": "1,2,30", "res": "32x24", "output": "$TMP/job-moved.exr"}]}
+JOBS
+"$PRISM" batch "$TMP/jobs.json" -q || fail "batch with camera keys exited $?"
+[[ "$(attr "$TMP/job-auto.exr" cameraPosition)" == "$(attr "$TMP/framed.exr" cameraPosition)" ]] || fail "batch camera auto at $(attr "$TMP/job-auto.exr" cameraPosition)"
+[[ "$(attr "$TMP/job-moved.exr" cameraPosition)" == "1,2,30" ]] || fail "batch look-from at $(attr "$TMP/job-moved.exr" cameraPosition)"
+
 expect 2 "^prism: error: --look-from 1,2: expected X,Y,Z, three finite numbers$" -- render "$SCENE" -o "$TMP/bad.exr" --look-from 1,2
 expect 2 "^prism: error: --look-at 1,2,nan: expected X,Y,Z, three finite numbers$" -- render "$SCENE" -o "$TMP/bad.exr" --look-at 1,2,nan
 expect 2 "^prism: error: --up 0,1,0,1: expected X,Y,Z, three finite numbers$" -- render "$SCENE" -o "$TMP/bad.exr" --up 0,1,0,1

@@ -102,13 +102,13 @@ expect_usage() {
     echo "ok: $* -> $(cat "$TMP/err")"
   fi
 }
-expect_usage "--target-errors: must be a finite number > 0, not 0 \(see" --target-errors 0.1,0
-expect_usage "--target-errors: must be a finite number > 0, not -0.1" --target-errors -0.1
-expect_usage "--target-errors: must be a finite number > 0, not nan" --target-errors nan
-expect_usage "--target-errors 0.1: given twice" --target-errors 0.1,0.10
+expect_usage "--target-error: must be a finite number > 0, not 0 \(see" --target-errors 0.1,0
+expect_usage "--target-error: must be a finite number > 0, not -0.1" --target-errors -0.1
+expect_usage "--target-error: must be a finite number > 0, not nan" --target-errors nan
+expect_usage "--target-error 0.1: given twice" --target-errors 0.1,0.10
 expect_usage "--min-spp 12: must be a power of two" --target-errors 0.1 --min-spp 12
 expect_usage "--min-spp" --target-errors 0.1 --min-spp 0
-expect_usage "--min-spp requires --target-errors" --min-spp 4
+expect_usage "--min-spp requires --target-error" --min-spp 4
 
 echo "$failures failed"
 [[ $failures -eq 0 ]]

@@ -79,7 +79,7 @@ done
 "$PRISM" render "$TMP/scenes.gltf" --scene dusk -o "$TMP/s.exr" >/dev/null 2>"$TMP/err"; rc=$?
 [[ $rc -eq 2 && ! -e $TMP/s.exr ]] || fail "render --scene dusk: exit $rc, expected 2"
 "$PRISM" info "$SRC/scenes/spheres.gltf" --timing |
-  grep -qE "^timing: load [0-9.]+ s, BVH build [0-9.]+ s, total [0-9.]+ s; 4 triangles; peak memory" ||
+  grep -qE "^timing: load [0-9.]+ s, BVH build [0-9.]+ s, total [0-9.]+ s; 4 triangles built \(0 degenerate and 0 non-finite dropped\); peak memory" ||
   fail "--timing: no timing line"
 
 # Usage errors exit 2, a broken file 1 with one line naming it.
