@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -80,6 +81,42 @@ py::dict error_dict(const ImageError& e) {
   return d;
 }
 
+using Scene3 = std::array<double, 3>;
+
+// A grey radiance or an (R, G, B) triple, as --background takes either.
+Scene3 to_background(const py::object& value) {
+  if (py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value)) {
+    const double v = py::cast<double>(value);
+    return {v, v, v};
+  }
+  try {
+    const auto rgb = py::cast<std::vector<double>>(value);
+    if (rgb.size() == 3) return {rgb[0], rgb[1], rgb[2]};
+  } catch (const py::cast_error&) {
+  }
+  throw RequestError("background", "expected a radiance or (R, G, B)");
+}
+
+std::optional<Scene3> to_vector(const py::object& value, const char* field) {
+  if (value.is_none()) return std::nullopt;
+  try {
+    const auto v = py::cast<std::vector<double>>(value);
+    if (v.size() == 3) return Scene3{v[0], v[1], v[2]};
+  } catch (const py::cast_error&) {
+  }
+  throw RequestError(field, "expected three numbers (X, Y, Z)");
+}
+
+struct EnvironmentOptions {
+  double rotation = 0.0, intensity = 1.0;
+  bool hidden = false;
+};
+
+struct CameraOptions {
+  std::optional<Scene3> look_from, look_at, up;
+  std::optional<double> fov;
+};
+
 // A loaded scene and the session that renders it; Render objects keep it alive, since
 // writing one needs the session's colour pipeline.
 class PySession : public std::enable_shared_from_this<PySession> {
@@ -115,12 +152,36 @@ class PySession : public std::enable_shared_from_this<PySession> {
   RenderJob job(const std::string& integrator, int spp,
                 const std::optional<std::pair<int, int>>& resolution, const std::string& camera,
                 double target_error, double time_limit, int min_spp,
-                const std::string& working_space, float background, const std::string& brdf,
+                const std::string& working_space, const std::string& brdf,
                 const std::string& spheres, bool robust, const std::string& build_quality,
-                const std::string& reference, const py::dict& parameters) const {
+                const std::string& reference, const Scene3& background,
+                const std::string& environment, const EnvironmentOptions& env,
+                const CameraOptions& view, const py::dict& parameters) const {
     RenderJob job;
     job.integrator = integrator;
-    job.camera = camera;
+    if (camera == "auto")
+      job.frame_scene = true;
+    else
+      job.camera = camera;
+    if (view.look_from || view.look_at || view.up || view.fov) {
+      CameraPlacement place;
+      const auto vec = [](const std::optional<Scene3>& v) -> std::optional<V3d> {
+        if (!v) return std::nullopt;
+        return V3d((*v)[0], (*v)[1], (*v)[2]);
+      };
+      place.look_from = vec(view.look_from);
+      place.look_at = vec(view.look_at);
+      place.up = vec(view.up);
+      place.yfov_degrees = view.fov;
+      job.placement = place;
+    }
+    job.background =
+        Imath::V3f(static_cast<float>(background[0]), static_cast<float>(background[1]),
+                   static_cast<float>(background[2]));
+    job.environment.path = environment;
+    job.environment.rotation_degrees = static_cast<float>(env.rotation);
+    job.environment.intensity = static_cast<float>(env.intensity);
+    job.environment.hidden = env.hidden;
     if (resolution) {
       job.width = resolution->first;
       job.height = resolution->second;
@@ -134,7 +195,6 @@ class PySession : public std::enable_shared_from_this<PySession> {
     job.film.time_limit_seconds = time_limit;
     job.film.min_spp = min_spp;
     job.working_space = choice<WorkingSpace>(working_space, "working-space");
-    job.background = background;
     job.brdf = choice<BrdfModel>(brdf, "brdf");
     std::string why;
     if (!parse_sphere_options(spheres, &job.spheres, &why)) throw RequestError("spheres", why);
@@ -247,14 +307,22 @@ PYBIND11_MODULE(_prism, m) {
           [](PySession& self, const std::string& integrator, int spp,
              const std::optional<std::pair<int, int>>& resolution, const std::string& camera,
              double target_error, double time_limit, int min_spp, const std::string& working_space,
-             float background, const std::string& brdf, const std::string& spheres, bool robust,
-             const std::string& build_quality, const std::string& reference,
+             const py::object& background, const std::string& environment,
+             double environment_rotation, double environment_intensity, bool hide_environment,
+             const py::object& look_from, const py::object& look_at, const py::object& up,
+             const std::optional<double>& fov, const std::string& brdf, const std::string& spheres,
+             bool robust, const std::string& build_quality, const std::string& reference,
              const py::kwargs& parameters) {
             auto render = std::make_unique<PyRender>();
             render->owner = self.shared_from_this();
-            render->job = self.job(integrator, spp, resolution, camera, target_error, time_limit,
-                                   min_spp, working_space, background, brdf, spheres, robust,
-                                   build_quality, reference, parameters);
+            const EnvironmentOptions env{environment_rotation, environment_intensity,
+                                         hide_environment};
+            const CameraOptions view{to_vector(look_from, "look-from"),
+                                     to_vector(look_at, "look-at"), to_vector(up, "up"), fov};
+            render->job =
+                self.job(integrator, spp, resolution, camera, target_error, time_limit, min_spp,
+                         working_space, brdf, spheres, robust, build_quality, reference,
+                         to_background(background), environment, env, view, parameters);
             {
               py::gil_scoped_release unlocked;
               render->output = self.session().render(render->job);
@@ -265,8 +333,12 @@ PYBIND11_MODULE(_prism, m) {
           py::arg("integrator") = "whitted", py::arg("spp") = 1, py::arg("resolution") = py::none(),
           py::arg("camera") = "", py::arg("target_error") = 0.0, py::arg("time_limit") = 0.0,
           py::arg("min_spp") = 8, py::arg("working_space") = "linear-rec709",
-          py::arg("background") = 0.0f, py::arg("brdf") = "gltf", py::arg("spheres") = "analytic",
-          py::arg("robust") = false, py::arg("build_quality") = "medium", py::arg("reference") = "",
+          py::arg("background") = 0.0, py::arg("environment") = "",
+          py::arg("environment_rotation") = 0.0, py::arg("environment_intensity") = 1.0,
+          py::arg("hide_environment") = false, py::arg("look_from") = py::none(),
+          py::arg("look_at") = py::none(), py::arg("up") = py::none(), py::arg("fov") = py::none(),
+          py::arg("brdf") = "gltf", py::arg("spheres") = "analytic", py::arg("robust") = false,
+          py::arg("build_quality") = "medium", py::arg("reference") = "",
           "Renders one job; integrator parameters (max_depth=..., ambient=...) as keywords.");
 
   py::class_<PyRender>(m, "Render", "One finished render: image, rays, timings, metadata.")

@@ -267,6 +267,33 @@ void check_sampling(const RenderSettings& film) {
     throw RequestError("tile-size", std::to_string(film.tile_size) + ": expected 1 to 4096");
 }
 
+// The light and camera fields, for the same reason.
+void check_light_and_camera(const RenderJob& job) {
+  const Imath::V3f& b = job.background;
+  for (float v : {b.x, b.y, b.z})
+    if (!std::isfinite(v) || v < 0.0f)
+      throw RequestError("background", format_number(v) + ": expected a radiance, finite and >= 0");
+  const EnvironmentRequest& env = job.environment;
+  if (!std::isfinite(env.intensity) || env.intensity < 0.0f)
+    throw RequestError("environment-intensity",
+                       format_number(env.intensity) + ": expected a finite number >= 0");
+  if (!std::isfinite(env.rotation_degrees))
+    throw RequestError("environment-rotation", format_number(env.rotation_degrees) +
+                                                   ": expected a finite angle in degrees");
+  if (!job.placement) return;
+  const CameraPlacement& place = *job.placement;
+  const auto finite = [](const char* field, const std::optional<V3d>& v) {
+    if (v && !(std::isfinite(v->x) && std::isfinite(v->y) && std::isfinite(v->z)))
+      throw RequestError(field, "expected three finite numbers X,Y,Z");
+  };
+  finite("look-from", place.look_from);
+  finite("look-at", place.look_at);
+  finite("up", place.up);
+  if (place.yfov_degrees && !(*place.yfov_degrees > 0.0 && *place.yfov_degrees < 180.0))
+    throw RequestError(
+        "fov", format_number(*place.yfov_degrees) + ": expected above 0 and below 180 degrees");
+}
+
 }  // namespace
 
 Session::Plan Session::plan(const RenderJob& job) const {
@@ -287,6 +314,7 @@ Session::Plan Session::plan(const RenderJob& job) const {
                                         : e.what());
   }
   check_sampling(job.film);
+  check_light_and_camera(job);
   if (ranks() > 1) {
     // Adaptive rounds and per-pass errors need every rank's pixels between passes; one
     // frame over MPI gathers once, at the end.
@@ -451,9 +479,9 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     const V3d& d = scene_.lights.front().direction;
     key_light = {d.x, d.y, d.z};
   }
-  auto key = std::make_tuple(to_string(job.spheres), job.robust, job.build_quality,
-                             job.working_space, key_light,
-                             std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
+  auto key =
+      std::make_tuple(to_string(job.spheres), job.robust, job.build_quality, job.working_space,
+                      key_light, std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
   if (built_.scene && built_.key == key) {
     built_.scene->set_environment(sky);

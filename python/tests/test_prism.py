@@ -103,6 +103,13 @@ def test_request_errors_carry_the_command_lines_message(session, tmp_path):
     ({"build_quality": "best"}, "build-quality"),
     ({"max_depth": 2.5}, "max-depth"),
     ({"no_such_parameter": 1}, "no-such-parameter"),
+    ({"background": -1.0}, "background"),
+    ({"background": (1.0, 2.0)}, "background"),
+    ({"environment_intensity": float("nan")}, "environment-intensity"),
+    ({"environment_rotation": float("inf")}, "environment-rotation"),
+    ({"look_from": (1.0, 2.0)}, "look-from"),
+    ({"look_at": (0.0, float("nan"), 0.0)}, "look-at"),
+    ({"fov": 180.0}, "fov"),
 ])
 def test_bad_options_name_their_field(session, kwargs, field):
     with pytest.raises(prism.RequestError) as caught:
@@ -160,3 +167,24 @@ def test_a_reference_gives_the_error_after_every_pass(session, tmp_path):
     assert [e["samples"] for e in errors] == [1, 2, 3, 4]
     last = prism.compare_images(render.image, reference.image)
     assert errors[-1]["rmse"] == pytest.approx(last["rmse"], rel=1e-6)
+
+
+def test_lighting_and_camera_options_are_the_command_lines(session, tmp_path):
+    kwargs = dict(integrator="path", spp=2, resolution=(32, 24), background=(0.5, 0.25, 0.125),
+                  camera="auto", look_from=(0.0, 2.0, 9.0), fov=40.0)
+    render = session.render(**kwargs)
+    out = tmp_path / "cli.exr"
+    cli = run_prism("render", SPHERES, "-o", str(out), "--integrator", "path", "--spp", "2",
+                    "--res", "32x24", "--background", "0.5,0.25,0.125", "--camera", "auto",
+                    "--look-from", "0,2,9", "--fov", "40", "-q")
+    assert cli.returncode == 0, cli.stderr
+    assert np.array_equal(prism.read_exr(str(out)), render.image)
+    # The camera really moved: the file's own camera sees another image.
+    assert not np.array_equal(session.render(integrator="path", spp=2, resolution=(32, 24),
+                                             background=(0.5, 0.25, 0.125)).image, render.image)
+    # The background is seen by rays that miss unless hidden; hidden, those pixels are 0.
+    hidden = session.render(**kwargs, hide_environment=True)
+    misses = hidden.image[..., 3] == 0.0
+    assert misses.any()
+    assert np.all(hidden.image[misses][:, :3] == 0.0)
+    assert np.all(render.image[misses][:, :3] > 0.0)
