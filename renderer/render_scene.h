@@ -45,8 +45,6 @@ class RenderScene {
   // hit instead of visiting them all (renderer/shading/light_sampler.h).
   const LightSampler& light_sampler() const { return light_sampler_; }
   const Environment& environment() const { return environment_; }
-  // The environment changes nothing the build made: a render scene takes each job's own.
-  void set_environment(const Environment& environment) { environment_ = environment; }
   // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
   const Material& material(int index) const {
     return index >= 0 && index < static_cast<int>(materials_.size()) ? materials_[index]

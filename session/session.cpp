@@ -336,6 +336,7 @@ const Environment& Session::environment(const RenderJob& job) {
   environment_.environment = made;
   environment_.key = key;
   environment_.made = true;
+  ++environment_.generation;
   return environment_.environment;
 }
 
@@ -362,14 +363,14 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
   // The default key light stands over the shoulder of whichever camera renders.
   if (scene_.default_lighting)
     scene_.lights = {default_key_light(scene_.cameras[static_cast<size_t>(camera)])};
+  // The environment is built into what samples the scene's lights, so another one is
+  // another build.
   auto key = std::make_tuple(to_string(job.spheres), job.robust, job.build_quality,
                              job.working_space, scene_.default_lighting ? camera : -1,
-                             std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
+                             std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf,
+                             environment_.generation);
   if (build_seconds) *build_seconds = 0.0;
-  if (built_.scene && built_.key == key) {
-    built_.scene->set_environment(sky);
-    return *built_.scene;
-  }
+  if (built_.scene && built_.key == key) return *built_.scene;
   const ColourPipeline& colours = colour(job.working_space);
   const auto start = Clock::now();
   arena_->execute([&] {

@@ -138,7 +138,8 @@ class Session {
   std::map<WorkingSpace, std::unique_ptr<ColourPipeline>> colours_;
   // The render scene kept, with the choices it was built for.
   struct BuiltScene {
-    std::tuple<std::string, bool, BuildQuality, WorkingSpace, int, std::array<double, 3>, BrdfModel>
+    std::tuple<std::string, bool, BuildQuality, WorkingSpace, int, std::array<double, 3>, BrdfModel,
+               uint64_t>
         key;
     std::unique_ptr<RenderScene> scene;
   };
@@ -148,6 +149,7 @@ class Session {
     std::tuple<std::string, float, float, bool, Imath::V3f, WorkingSpace> key;
     Environment environment;
     bool made = false;
+    uint64_t generation = 0;  // counts the environments made: what a render scene was built with
   };
   MadeEnvironment environment_;
 };
