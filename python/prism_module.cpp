@@ -221,10 +221,13 @@ struct PyRender {
   RenderOutput output;
   py::object image;
 
-  void write(const std::string& exr, const std::string& preview, bool half,
-             const std::string& compression) {
+  void write(const std::string& path, const std::string& preview, bool half,
+             const std::string& compression, const std::string& view, double exposure) {
     OutputFiles files;
-    files.exr = exr;
+    files.image = path;
+    files.exr_only = false;  // the format by the extension, as prism render's -o
+    files.display.view = view;
+    files.display.exposure = exposure;
     files.preview = preview;
     files.pixel_type = half ? ExrPixelType::half : ExrPixelType::float32;
     files.compression = choice<ExrCompression>(compression, "compression");
@@ -378,10 +381,12 @@ PYBIND11_MODULE(_prism, m) {
                                }
                                return out;
                              })
-      .def("write", &PyRender::write, py::arg("exr"), py::arg("preview") = "",
+      .def("write", &PyRender::write, py::arg("path"), py::arg("preview") = "",
            py::arg("half") = false,
            py::arg("compression") = std::string(to_string(kDefaultExrCompression)),
-           "Writes the EXR master (and a PNG preview) as `prism render` does, atomically.");
+           py::arg("view") = "", py::arg("exposure") = 0.0,
+           "Writes the image (its format by the extension, as prism render's -o) and an optional "
+           "PNG preview, atomically; view and exposure apply to display-referred formats.");
 
   m.def(
       "read_exr", [](const std::string& path) { return to_array(read_exr(path)); }, py::arg("path"),

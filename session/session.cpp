@@ -484,6 +484,7 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
                       key_light, std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
   if (built_.scene && built_.key == key) {
+    // Another environment needs no new BVH: only the light choices that weigh it change.
     built_.scene->set_environment(sky);
     return *built_.scene;
   }
