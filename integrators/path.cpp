@@ -120,12 +120,14 @@ struct PathTracer {
   }
 
   // Light arriving at `point` from the environment along -wi, as a ray escaping the scene
-  // after a BSDF sample of density `bsdf_pdf` sees it (bsdf_pdf < 0: counted whole).
-  V3f escaped(const V3f& direction, float bsdf_pdf) const {
+  // after a BSDF sample of density `bsdf_pdf` sees it (bsdf_pdf < 0: counted whole). A camera
+  // ray sees the environment's background (black when it is hidden from the camera).
+  V3f escaped(const V3f& direction, float bsdf_pdf, bool camera_ray) const {
     if constexpr (!HasEnvironment) {
       return V3f(0.0f);
     } else {
       const Environment& env = context.scene.environment();
+      if (camera_ray) return env.background(direction);
       const V3f radiance = env.radiance(direction);
       if (bsdf_pdf < 0.0f) return radiance;
       const float light_pdf =
@@ -144,7 +146,7 @@ struct PathTracer {
     V3f from(0.0f);
     for (int depth = 0;; ++depth) {
       if (!found) {
-        radiance += hadamard(beta, escaped(ray.direction, bsdf_pdf));
+        radiance += hadamard(beta, escaped(ray.direction, bsdf_pdf, depth == 0));
         break;
       }
       const SurfaceResponse surface = evaluate(scene.material(hit.material), hit);
