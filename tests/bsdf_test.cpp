@@ -14,6 +14,7 @@
 #include "renderer/shading/bsdf.h"
 #include "renderer/shading/light_sampler.h"
 #include "renderer/shading/lights.h"
+#include "tests/chi_square.h"
 #include "tests/gltf_brdf_reference.h"
 
 namespace prism {
@@ -57,13 +58,6 @@ Bsdf gltf_bsdf(float rho, float metallic, float roughness, float transmission = 
   return Bsdf(V3f(0.0f, 0.0f, 1.0f), gltf_lobes(rho, metallic, roughness, transmission));
 }
 
-// The upper tail probability of a chi-square value with k degrees of freedom, by the
-// Wilson-Hilferty normal approximation (accurate to a few per cent of p for k > 30).
-double chi_square_p_value(double chi2, int k) {
-  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
-  return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
-
 // Histograms sample() over a (cos theta, phi) grid of the whole sphere and compares it with
 // pdf() integrated over each cell (midpoint rule on a 4 x 4 sub-grid), merging cells whose
 // expected count is below 5 as the chi-square test needs; returns the p-value.
@@ -97,24 +91,11 @@ double chi_square_test(const Bsdf& bsdf, const V3f& wo, int samples,
       const double cell = (2.0 / kTheta) * (2 * kPiD / kPhi);  // solid angle
       expected[size_t(t * kPhi + p)] = integral / (kSub * kSub) * cell * samples;
     }
-  double chi2 = 0.0, pooled_obs = 0.0, pooled_exp = 0.0;
-  int dof = -1;
-  for (size_t i = 0; i < expected.size(); ++i) {
-    if (expected[i] < 5.0) {
-      pooled_obs += observed[i];
-      pooled_exp += expected[i];
-      continue;
-    }
-    chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
-    ++dof;
+  const testing::ChiSquareResult r = testing::chi_square(observed, expected);
+  if (r.pooled_expected < 5.0) {
+    EXPECT_LT(r.pooled_observed, 20.0) << "samples where the pdf says there are almost none";
   }
-  if (pooled_exp >= 5.0) {
-    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-    ++dof;
-  } else {
-    EXPECT_LT(pooled_obs, 20.0) << "samples where the pdf says there are almost none";
-  }
-  return chi_square_p_value(chi2, dof);
+  return r.p_value;
 }
 
 TEST(Bsdf, SamplingMatchesPdfChiSquare) {
