@@ -15,10 +15,10 @@ grep -qE "bounce [1-9][0-9,]*" "$TMP/stdout1" || fail "no bounce rays counted: $
 "$PRISM" diff "$TMP/t1.exr" "$TMP/t2.exr" --metric max --fail-above 0 >/dev/null ||
   fail "1 and 2 threads differ"
 
-"$PRISM" render "$SCENE" -o "$TMP/limited.exr" --integrator path --res 32x32 --spp 100000 \
+"$PRISM" render "$SCENE" -o "$TMP/limited.exr" --integrator path --res 32x32 --spp 65536 \
   --time-limit 0.5 >"$TMP/stdout" 2>"$TMP/stderr" || fail "--time-limit render failed: $(cat "$TMP/stderr")"
 
-expect 2 "strategy" -- render "$SCENE" -o "$TMP/bad.exr" --integrator path --strategy 3
+expect 2 "strategy" -- render "$SRC/scenes/spheres.gltf" -o "$TMP/bad.exr" --integrator path --strategy 3
 
 echo "$failures failed"
 [[ $failures -eq 0 ]]
