@@ -32,6 +32,7 @@
 
 #include "integrators/local_shading.h"
 #include "integrators/registry.h"
+#include "integrators/shading_flags.h"
 #include "integrators/tile_loop.h"
 #include "renderer/sampling/sampler.h"
 
@@ -268,8 +269,8 @@ class PathIntegrator final : public Integrator {
 
   void render_tile(const RenderContext& context, const TileRect& tile, Image* image,
                    RayCounters* counters) const override {
-    // No area light: no surface emits, and the emission term is zero everywhere.
-    const bool emission = !context.settings.specialise || !context.scene.area_lights().empty();
+    // Without emissive or unlit materials the emission term is zero everywhere.
+    const bool emission = shading_flags(context).emission;
     const bool environment = !context.settings.specialise || !context.scene.environment().black();
     if (emission) {
       if (environment)

@@ -121,6 +121,9 @@ struct MaterialDescription {
   C3f specular_colour{1.0f, 1.0f, 1.0f};  // KHR_materials_specular: specularColorFactor
   // false (glTF's default): camera rays do not see the back face (docs/materials.md).
   bool double_sided = false;
+  // KHR_materials_unlit: the surface shows its base colour as emitted radiance and scatters
+  // nothing.
+  bool unlit = false;
 };
 
 // One triangle list with one material. Strips and fans are already converted to lists, and

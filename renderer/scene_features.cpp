@@ -82,6 +82,7 @@ void add_material(const SceneDescription& scene, int index, SceneFeatures* f) {
   if (refracts(scene, m)) f->transmission = true;
   // The emissive texture only scales the factor, so a zero factor never emits.
   if (m.emissive.x > 0.0f || m.emissive.y > 0.0f || m.emissive.z > 0.0f) f->emission = true;
+  if (m.unlit) f->emission = true;  // its base colour is its emission
 }
 
 size_t triangle_count(const Mesh& mesh) {

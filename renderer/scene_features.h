@@ -68,7 +68,7 @@ struct SceneFeatures {
   bool mirror = false;
   // Some used material refracts: transmission > 0 and not wholly metallic.
   bool transmission = false;
-  // Some used material has a non-zero emissive factor.
+  // Some used material has a non-zero emissive factor, or is unlit (KHR_materials_unlit).
   bool emission = false;
   // Some mesh primitive's material has alphaMode MASK, or BLEND: its triangles carry alpha
   // filters, for every kind of ray (renderer/geometry/alpha_filter.h). Spheres ignore alpha.

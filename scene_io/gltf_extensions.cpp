@@ -88,12 +88,19 @@ void specular_glossiness(MaterialExtensionReader& r, const tinygltf::Value& ext,
   }
 }
 
+// The extension has no properties: its presence is the whole statement.
+void unlit(MaterialExtensionReader&, const tinygltf::Value&, const std::string&,
+           MaterialDescription& d) {
+  d.unlit = true;
+}
+
 constexpr ExtensionHandler kExtensions[] = {
     {"KHR_materials_pbrSpecularGlossiness", true, specular_glossiness, "materials"},
     {"KHR_materials_emissive_strength", true, emissive_strength, "materials"},
     {"KHR_materials_transmission", true, transmission, "materials"},
     {"KHR_materials_ior", true, ior, "materials"},
     {"KHR_materials_specular", true, specular, "materials"},
+    {"KHR_materials_unlit", true, unlit, "materials"},
     {"KHR_lights_punctual", true, nullptr, "the document (lights) and nodes (placement)"},
     {"PRISM_sphere", true, nullptr, "nodes (docs/spheres.md)"},
     {"KHR_draco_mesh_compression", true, nullptr, "primitives (gltf_draco.h)"},

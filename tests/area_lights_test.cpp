@@ -13,6 +13,7 @@
 #include "renderer/image/colour.h"
 #include "renderer/shading/area_lights.h"
 #include "renderer/shading/emitter_sampler.h"
+#include "tests/chi_square.h"
 
 namespace prism {
 namespace {
@@ -22,12 +23,6 @@ constexpr double kPiD = std::numbers::pi;
 V3f spherical(double cos_theta, double phi) {
   const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
   return V3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(cos_theta));
-}
-
-double chi_square_p_value(double chi2, int k) {
-  // Wilson-Hilferty, as tests/bsdf_test.cpp.
-  const double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
-  return 0.5 * std::erfc(z / std::sqrt(2.0));
 }
 
 struct ChiSquare {
@@ -81,22 +76,7 @@ ChiSquare chi_square(const AreaLight& light, const V3f& point, int samples) {
       result.pdf_integral += mass;
       expected[size_t(t * kPhi + p)] = mass * samples;
     }
-  double chi2 = 0.0, pooled_obs = 0.0, pooled_exp = 0.0;
-  int dof = -1;
-  for (size_t i = 0; i < expected.size(); ++i) {
-    if (expected[i] < 5.0) {
-      pooled_obs += observed[i];
-      pooled_exp += expected[i];
-      continue;
-    }
-    chi2 += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
-    ++dof;
-  }
-  if (pooled_exp >= 5.0) {
-    chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-    ++dof;
-  }
-  result.p_value = chi_square_p_value(chi2, std::max(dof, 1));
+  result.p_value = testing::chi_square(observed, expected).p_value;
   return result;
 }
 

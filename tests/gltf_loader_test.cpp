@@ -449,15 +449,18 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
                       {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
                       {"KHR_materials_specular",
                        {{"specularFactor", 0.5}, {"specularColorFactor", {2.0, 1.0, 0.0}}}}}}},
-                   json::object()});
+                   json::object(),
+                   {{"extensions", {{"KHR_materials_unlit", json::object()}}}}});
   b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}},
                            {"indices",
                             b.accessor(b.view(std::vector<uint16_t>{0, 1, 2}), 5123, 3, "SCALAR")},
                            {"material", 0}})}});
   const SceneDescription s = load_gltf(b.write("materials.gltf"));
-  ASSERT_EQ(s.materials.size(), 2u);
+  ASSERT_EQ(s.materials.size(), 3u);
   const MaterialDescription& m = s.materials[0];
   EXPECT_EQ(m.name, "glass");
+  EXPECT_FALSE(m.unlit);
+  EXPECT_TRUE(s.materials[2].unlit);
   EXPECT_TRUE(m.double_sided);
   EXPECT_NEAR(m.base_colour.x, 0.9f, 1e-6f);
   EXPECT_NEAR(m.base_colour.z, 0.7f, 1e-6f);

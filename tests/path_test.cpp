@@ -286,6 +286,24 @@ TEST(PathIntegrator, RussianRouletteIsUnbiased) {
   EXPECT_NEAR(d.mean, 0.0, 4.0 * d.error);
 }
 
+// KHR_materials_unlit: every integrator shows the base colour, lit or not, and nothing
+// reflects off it (the point light changes nothing).
+TEST(Unlit, EveryIntegratorShowsTheBaseColour) {
+  SceneDescription scene;
+  MaterialDescription unlit = lambert_like(0.0f);
+  unlit.base_colour = C3f(0.3f, 0.5f, 0.7f);
+  unlit.unlit = true;
+  scene.materials.push_back(unlit);
+  scene.spheres.push_back(Sphere{V3d(0.0), 1.0, 0, "ball"});
+  scene.lights.push_back(testing::point_light(V3d(0.0, 3.0, 3.0), 50.0f));
+  scene.cameras.push_back(ortho_camera_looking_down_z(3.0, 0.5));
+  for (const char* integrator : {"phong", "shadow", "whitted", "path"}) {
+    const testing::Rendered r = testing::render_scene(scene, integrator, film(8, 4));
+    for (int c = 0; c < 3; ++c)
+      EXPECT_FLOAT_EQ(r.image.pixel(4, 4)[c], unlit.base_colour[c]) << integrator << " " << c;
+  }
+}
+
 TEST(PathIntegrator, ImageIsBitIdenticalAcrossThreadsAndTiles) {
   testing::TestSettings s = film(40, 4);
   s.width = 45;

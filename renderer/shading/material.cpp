@@ -179,6 +179,7 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
   m.ior = d.ior >= 1.0f ? d.ior : 1.5f;
   m.specular = std::clamp(d.specular, 0.0f, 1.0f);
   m.specular_colour = to_rgb(colour.from_linear_rec709(d.specular_colour));
+  m.unlit = d.unlit;
   return m;
 }
 
@@ -210,6 +211,14 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
     const V4f t = read.sample(material.metallic_roughness_texture);
     roughness *= t.y;  // glTF: roughness in green, metallic in blue
     metallic *= t.z;
+  }
+  if (material.unlit) {
+    // No lobe: the base colour is what the surface sends, whatever lights it.
+    SurfaceResponse r;
+    r.bsdf = Bsdf(hit.shading_normal, BsdfLobes{});
+    r.emission = base;
+    r.alpha = alpha;
+    return r;
   }
   const Rgb emission = emission_of(material, read);
 

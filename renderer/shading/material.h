@@ -63,6 +63,7 @@ struct Material {
   float specular = 1.0f;  // KHR_materials_specular
   Rgb specular_colour{1.0f, 1.0f, 1.0f};
   BrdfModel brdf = BrdfModel::gltf;
+  bool unlit = false;  // KHR_materials_unlit: emits its base colour, scatters nothing
 };
 
 // What a material is at one surface point: its BSDF (renderer/shading/bsdf.h), the light it

@@ -78,7 +78,7 @@ schema "unknown key" "$GOOD, {$X, \"output\": \"s/x.exr\", \"colour\": 3}" \
 schema "spp many" "$GOOD, {$X, \"output\": \"s/x.exr\", \"spp\": \"many\"}" "jobs\[1\] 'x': spp: .*many"
 schema "spp 0" "$GOOD, {$X, \"output\": \"s/x.exr\", \"spp\": 0}" "jobs\[1\] 'x': spp: must be a whole number from 1 to 65536, not 0"
 schema "integrator" "$GOOD, {$X, \"output\": \"s/x.exr\", \"integrator\": \"raymarch\"}" \
-  "jobs\[1\] 'x': integrator: raymarch: expected phong, shadow or whitted"
+  "jobs\[1\] 'x': integrator: raymarch: expected phong, shadow, whitted or path"
 schema "no scene" "$GOOD, "'{"name": "x", "output": "s/x.exr"}' "jobs\[1\] 'x': scene: missing"
 schema "no output" "$GOOD, {$X}" "jobs\[1\] 'x': output: missing"
 schema "threads" "$GOOD, {$X, \"output\": \"s/x.exr\", \"threads\": 2}" \
