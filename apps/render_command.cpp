@@ -318,7 +318,8 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)");
   cmd->add_option("--build-quality", o->build_quality,
                   "BVH build quality: " + enum_choices<BuildQuality>(" | ") +
-                      " (slower to build, faster to trace)")
+                      " (slower to build, faster to trace; auto chooses by the rays the render "
+                      "expects per primitive)")
       ->capture_default_str();
   add_sphere_detection_options(cmd, &o->sphere_detection, true);
   cmd->add_flag("--general-path", o->general_path,

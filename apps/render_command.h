@@ -28,8 +28,8 @@ struct RenderOptions {
   bool half = false;
   std::string compression = to_string(kDefaultExrCompression);
   bool robust = false;
-  std::string build_quality = "medium";  // BVH build quality (docs/benchmarks.md)
-  bool general_path = false;             // RenderSettings::specialise = false
+  std::string build_quality = "auto";  // BVH build quality (docs/benchmarks.md)
+  bool general_path = false;           // RenderSettings::specialise = false
   bool quiet = false;
   bool verbose = false;
   // Seconds between checkpoints (OUTPUT.checkpoint); 0 = none. With it, SIGTERM and SIGUSR1
@@ -41,8 +41,8 @@ struct RenderOptions {
 
 // What a `prism render` command line asks for, checked (UsageError or RequestError naming the
 // option): the scene to load, the session, the job and its files (their paths are not
-// checked here: a batch's may still hold placeholders; check_output_files does). `prism batch` turns each
-// job of a job file into the same, so both accept and refuse exactly the same options.
+// checked here: a batch's may still hold placeholders; check_output_files does). `prism batch`
+// turns each job of a job file into the same, so both accept and refuse exactly the same options.
 struct RenderRequest {
   SceneRequest scene;
   SessionOptions session;

@@ -87,6 +87,12 @@ class Session {
   // job needs other choices (one at a time: two BVHs would double the peak memory).
   // `build_seconds` receives the time spent building it now (0 when reused).
   const RenderScene& render_scene(const RenderJob& job, double* build_seconds = nullptr);
+  // The quality `job` builds at: its own, or for BuildQuality::automatic the choice of
+  // automatic_build_quality for the rays it expects, width x height x spp x (1 + the
+  // integrator's max-depth, if it has one: each bounce another ray per sample), through the
+  // scene's primitives (each mesh's triangles once, as instances share a mesh's BVH, and
+  // the spheres).
+  BuildQuality build_quality(const RenderJob& job);
   const ColourPipeline& colour(WorkingSpace space);
   // Bytes the session holds: the scene description (geometry, texels) and the BVH built
   // for it, as Embree reports it. What a cache of sessions weighs against its budget.
