@@ -118,9 +118,9 @@ WeldedMesh weld(const SceneDescription& scene, const Mesh& mesh) {
     for (uint32_t i : p.indices) bounds.extendBy(V3d(p.positions[i]));
   const double size = bounds.isEmpty() ? 0.0 : (bounds.max - bounds.min).length();
   if (!(size > 0.0) || !std::isfinite(size)) return w;  // not closed
-  size_t references = 0;                                // each reference adds at most one position
-  for (const Primitive& p : mesh.primitives) references += p.indices.size();
-  Welder welder(kWeldDistance * size, references);
+  size_t vertices = 0;                                  // each vertex adds at most one position
+  for (const Primitive& p : mesh.primitives) vertices += p.positions.size();
+  Welder welder(kWeldDistance * size, vertices);
   std::set<int> materials;
   bool colours = false;
   for (const Primitive& p : mesh.primitives) {
