@@ -356,7 +356,8 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
       ->group(kDeveloperGroup);
   cmd->add_option("--build-quality", o->build_quality,
                   "BVH build quality: " + enum_choices<BuildQuality>(" | ") +
-                      " (slower to build, faster to trace)")
+                      " (slower to build, faster to trace; auto chooses by the rays the render "
+                      "expects per primitive)")
       ->capture_default_str()
       ->group(kDeveloperGroup);
   add_sphere_detection_options(cmd, &o->sphere_detection, true);

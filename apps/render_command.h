@@ -30,8 +30,8 @@ struct RenderOptions {
   bool half = false;
   std::string compression = to_string(kDefaultExrCompression);
   bool robust = false;
-  std::string build_quality = "medium";  // BVH build quality (docs/benchmarks.md)
-  bool general_path = false;             // RenderSettings::specialise = false
+  std::string build_quality = "auto";  // BVH build quality (docs/benchmarks.md)
+  bool general_path = false;           // RenderSettings::specialise = false
   bool quiet = false;
   bool verbose = false;
   // Seconds between checkpoints (OUTPUT.checkpoint); 0 = none. With it, SIGTERM and SIGUSR1

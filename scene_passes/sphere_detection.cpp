@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <set>
-#include <unordered_map>
+#include <vector>
 
 #include <Imath/ImathBox.h>
 #include <Imath/ImathMatrix.h>
@@ -36,12 +36,47 @@ struct WeldedMesh {
 };
 
 using Cell = std::array<int64_t, 3>;
-struct CellHash {
-  size_t operator()(const Cell& c) const {
+
+// One index per cell, the first position seen in it, by open addressing in a table sized
+// once for every position the mesh can add: the lookups a std::unordered_map gave, without a
+// node allocation per cell and a pointer chase per probe (27 probes a position).
+class CellTable {
+ public:
+  explicit CellTable(size_t most) {
+    size_t n = 16;
+    while (n < 2 * most) n <<= 1;
+    slots_.resize(n);
+    mask_ = n - 1;
+  }
+  const uint32_t* find(const Cell& c) const {
+    for (size_t i = slot(c);; i = (i + 1) & mask_) {
+      const Slot& s = slots_[i];
+      if (s.index == kEmpty) return nullptr;
+      if (s.cell == c) return &s.index;
+    }
+  }
+  void insert(const Cell& c, uint32_t index) {  // for a cell not in the table
+    size_t i = slot(c);
+    while (slots_[i].index != kEmpty) i = (i + 1) & mask_;
+    slots_[i] = Slot{c, index};
+  }
+
+ private:
+  static constexpr uint32_t kEmpty = UINT32_MAX;
+  struct Slot {
+    Cell cell{};
+    uint32_t index = kEmpty;
+  };
+  size_t slot(const Cell& c) const {
     uint64_t h = 1469598103934665603ull;
     for (int64_t v : c) h = (h ^ static_cast<uint64_t>(v)) * 1099511628211ull;
-    return static_cast<size_t>(h);
+    h ^= h >> 29;  // the multiplications carry upwards only: bring the high bits down
+    h *= 0xbf58476d1ce4e5b9ull;
+    h ^= h >> 32;
+    return static_cast<size_t>(h) & mask_;
   }
+  std::vector<Slot> slots_;
+  size_t mask_ = 0;
 };
 
 // Positions on a grid of cells kWeldDistance x size wide; a position joins one already seen
@@ -49,26 +84,26 @@ struct CellHash {
 // border are still found).
 class Welder {
  public:
-  explicit Welder(double cell) : cell_(cell) {}
+  Welder(double cell, size_t most_positions) : cell_(cell), cells_(most_positions) {}
   uint32_t index(const V3d& p, std::vector<V3d>* positions) {
     const Cell c{std::llround(p.x / cell_), std::llround(p.y / cell_), std::llround(p.z / cell_)};
     for (int64_t dx = -1; dx <= 1; ++dx)
       for (int64_t dy = -1; dy <= 1; ++dy)
         for (int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find(Cell{c[0] + dx, c[1] + dy, c[2] + dz});
-          if (it == cells_.end()) continue;
-          const V3d d = (*positions)[it->second] - p;
-          if (std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}) <= cell_) return it->second;
+          const uint32_t* found = cells_.find(Cell{c[0] + dx, c[1] + dy, c[2] + dz});
+          if (!found) continue;
+          const V3d d = (*positions)[*found] - p;
+          if (std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)}) <= cell_) return *found;
         }
     const uint32_t i = static_cast<uint32_t>(positions->size());
     positions->push_back(p);
-    cells_.emplace(c, i);
+    cells_.insert(c, i);
     return i;
   }
 
  private:
   double cell_;
-  std::unordered_map<Cell, uint32_t, CellHash> cells_;
+  CellTable cells_;
 };
 
 bool has_texture(const MaterialDescription& m) {
@@ -83,7 +118,9 @@ WeldedMesh weld(const SceneDescription& scene, const Mesh& mesh) {
     for (uint32_t i : p.indices) bounds.extendBy(V3d(p.positions[i]));
   const double size = bounds.isEmpty() ? 0.0 : (bounds.max - bounds.min).length();
   if (!(size > 0.0) || !std::isfinite(size)) return w;  // not closed
-  Welder welder(kWeldDistance * size);
+  size_t vertices = 0;                                  // each vertex adds at most one position
+  for (const Primitive& p : mesh.primitives) vertices += p.positions.size();
+  Welder welder(kWeldDistance * size, vertices);
   std::set<int> materials;
   bool colours = false;
   for (const Primitive& p : mesh.primitives) {
@@ -98,17 +135,20 @@ WeldedMesh weld(const SceneDescription& scene, const Mesh& mesh) {
       w.triangles.push_back(tri);
     }
   }
-  std::unordered_map<uint64_t, uint32_t> directed;
+  // Closed: every directed edge once, and its reverse once. Sorted keys say both in
+  // O(n log n) with no map: a repeated key is an edge used twice the same way.
+  std::vector<uint64_t> directed;
+  directed.reserve(w.triangles.size() * 3);
   const auto key = [](uint32_t a, uint32_t b) { return (uint64_t{a} << 32) | b; };
   for (const auto& t : w.triangles)
-    for (size_t k = 0; k < 3; ++k) ++directed[key(t[k], t[(k + 1) % 3])];
-  w.closed = !w.triangles.empty();
-  for (const auto& [edge, count] : directed) {
-    const auto reverse = directed.find(key(static_cast<uint32_t>(edge), edge >> 32));
-    if (count != 1 || reverse == directed.end() || reverse->second != 1) {
-      w.closed = false;
-      break;
-    }
+    for (size_t k = 0; k < 3; ++k) directed.push_back(key(t[k], t[(k + 1) % 3]));
+  std::sort(directed.begin(), directed.end());
+  w.closed = !w.triangles.empty() &&
+             std::adjacent_find(directed.begin(), directed.end()) == directed.end();
+  for (size_t i = 0; w.closed && i < directed.size(); ++i) {
+    const uint64_t edge = directed[i];
+    w.closed = std::binary_search(directed.begin(), directed.end(),
+                                  key(static_cast<uint32_t>(edge), edge >> 32));
   }
   w.material = materials.empty() ? -1 : *materials.begin();
   if (materials.size() > 1) {

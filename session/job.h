@@ -120,7 +120,8 @@ struct RenderJob {
   // How the BVH is built; renders with the same choices share one build.
   SphereOptions spheres;
   bool robust = false;
-  BuildQuality build_quality = BuildQuality::medium;
+  // `automatic`: by the rays the render expects per primitive (Session::build_quality).
+  BuildQuality build_quality = BuildQuality::automatic;
   // Measure the error against this image after every pass (one sample per pixel per
   // pass); the figures go into the output and its metadata. Must be a regular EXR file of
   // the render's size.

@@ -465,6 +465,21 @@ void Session::check(const RenderJob& job) {
   }
 }
 
+BuildQuality Session::build_quality(const RenderJob& job) {
+  if (job.build_quality != BuildQuality::automatic) return job.build_quality;
+  add_defaults();
+  const Plan p = plan(job);
+  const double bounces =
+      takes_parameter(*p.integrator, "max-depth") ? p.parameters.integer("max-depth") : 0.0;
+  const double rays =
+      static_cast<double>(p.film.width) * p.film.height * p.film.spp * (1.0 + bounces);
+  double primitives = static_cast<double>(scene_.spheres.size());
+  for (const Mesh& mesh : scene_.meshes)
+    for (const Primitive& primitive : mesh.primitives)
+      primitives += static_cast<double>(primitive.indices.size() / 3);
+  return automatic_build_quality(rays, primitives);
+}
+
 const RenderScene& Session::render_scene(const RenderJob& job, double* build_seconds) {
   // Rebased per scene, or per camera for a scene too large to share one origin
   // (rebasing_origin): jobs from every camera of a small scene share one build.
@@ -479,8 +494,9 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     const V3d& d = scene_.lights.front().direction;
     key_light = {d.x, d.y, d.z};
   }
+  const BuildQuality quality = build_quality(job);
   auto key =
-      std::make_tuple(to_string(job.spheres), job.robust, job.build_quality, job.working_space,
+      std::make_tuple(to_string(job.spheres), job.robust, quality, job.working_space,
                       key_light, std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
   if (built_.scene && built_.key == key) {
@@ -495,7 +511,7 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     GeometryOptions geometry;
     geometry.spheres = job.spheres;
     geometry.robust = job.robust;
-    geometry.build_quality = job.build_quality;
+    geometry.build_quality = quality;
     // Rebased near the camera and the geometry: hits and lights stay near 0 in float
     // wherever the scene sits in the world and wherever the camera stands
     // (docs/stress-shading.md, huge coordinates; docs/accuracy.md, far cameras).
@@ -588,7 +604,8 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Came
              {"cameraPosition", format_number(placed[3][0]) + "," + format_number(placed[3][1]) +
                                     "," + format_number(placed[3][2])},
              {"spheres", to_string(job.spheres)},
-             {"buildQuality", to_string(job.build_quality)},
+             // As built: the key of the render scene this job rendered settles `auto`.
+             {"buildQuality", to_string(std::get<2>(built_.key))},
              {"brdf", to_string(job.brdf)},
              {"robust", job.robust ? "1" : "0"}};
   for (const ParameterInfo& info : p.integrator->parameters)

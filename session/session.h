@@ -93,6 +93,12 @@ class Session {
   // job needs other choices (one at a time: two BVHs would double the peak memory).
   // `build_seconds` receives the time spent building it now (0 when reused).
   const RenderScene& render_scene(const RenderJob& job, double* build_seconds = nullptr);
+  // The quality `job` builds at: its own, or for BuildQuality::automatic the choice of
+  // automatic_build_quality for the rays it expects, width x height x spp x (1 + the
+  // integrator's max-depth, if it has one: each bounce another ray per sample), through the
+  // scene's primitives (each mesh's triangles once, as instances share a mesh's BVH, and
+  // the spheres).
+  BuildQuality build_quality(const RenderJob& job);
   const ColourPipeline& colour(WorkingSpace space);
   // The environment `job` renders with (docs/lights.md): its map, else its uniform
   // background, else the default sky of a file without lights, else black. Read and made on

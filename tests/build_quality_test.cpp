@@ -18,6 +18,7 @@
 #include "renderer/geometry/sphere_mesh.h"
 #include "scene_io/gltf_loader.h"
 #include "scene_passes/scene_defaults.h"
+#include "session/session.h"
 #include "tests/test_scenes.h"
 
 namespace prism {
@@ -58,14 +59,15 @@ size_t hit_pixels(const Image& image) {
   return n;
 }
 
-TEST(BuildQuality, ParsesItsThreeNamesAndNothingElse) {
-  for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
+TEST(BuildQuality, ParsesItsFourNamesAndNothingElse) {
+  for (BuildQuality q :
+       {BuildQuality::low, BuildQuality::medium, BuildQuality::high, BuildQuality::automatic}) {
     BuildQuality parsed = q == BuildQuality::low ? BuildQuality::high : BuildQuality::low;
     EXPECT_TRUE(parse_enum(to_string(q), &parsed)) << to_string(q);
     EXPECT_EQ(parsed, q);
   }
   BuildQuality untouched = BuildQuality::medium;
-  for (const char* bad : {"", "High", "best", "high ", "2"}) {
+  for (const char* bad : {"", "High", "best", "high ", "2", "automatic"}) {
     EXPECT_FALSE(parse_enum(bad, &untouched)) << '"' << bad << '"';
     EXPECT_EQ(untouched, BuildQuality::medium);
   }
@@ -167,8 +169,65 @@ TEST(BuildQuality, CommandLineRefusesAnUnknownQualityInOneLine) {
   const int status = pclose(pipe);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 2);
-  EXPECT_EQ(err, "prism: error: --build-quality best: expected low, medium or high\n");
+  EXPECT_EQ(err, "prism: error: --build-quality best: expected low, medium, high or auto\n");
   EXPECT_FALSE(std::filesystem::exists(image));
+}
+
+// The rule at its two crossovers: LOW below kLowBuildRaysPerPrimitive rays per primitive,
+// HIGH above kHighBuildRaysPerPrimitive, MEDIUM between and at both.
+TEST(BuildQuality, AutomaticChoosesByRaysPerPrimitive) {
+  const double n = 4e6;
+  EXPECT_EQ(automatic_build_quality(640.0 * 480.0, n), BuildQuality::low);  // a 1-spp preview
+  EXPECT_EQ(automatic_build_quality(kLowBuildRaysPerPrimitive * n * 0.99, n), BuildQuality::low);
+  EXPECT_EQ(automatic_build_quality(kLowBuildRaysPerPrimitive * n, n), BuildQuality::medium);
+  EXPECT_EQ(automatic_build_quality(kHighBuildRaysPerPrimitive * n, n), BuildQuality::medium);
+  EXPECT_EQ(automatic_build_quality(kHighBuildRaysPerPrimitive * n * 1.01, n), BuildQuality::high);
+  EXPECT_EQ(automatic_build_quality(1e9, 0.0), BuildQuality::medium);  // nothing to build
+}
+
+// A session settles `auto` from the job (resolution x spp x (1 + max-depth)) against the
+// engine's triangles, and builds exactly what the named quality builds: Embree holds the
+// same bytes as for that quality, and other bytes than for the others.
+TEST(BuildQuality, AutomaticReachesEmbreeAsTheQualityItChose) {
+  SceneRequest request;
+  request.path = kEngine;
+  SessionOptions options;
+  options.threads = 1;  // Embree's per-thread allocation blocks make its bytes vary otherwise
+  struct Case {
+    int width, height, spp;
+    const char* integrator;
+    BuildQuality expected;
+  };
+  // 110k triangles: 64 x 48 at 1 spp is 0.03 rays each, 320 x 240 at 16 spp about 11,
+  // 640 x 480 at 1024 spp with Whitted's 5 bounces about 17 000.
+  const Case cases[] = {{64, 48, 1, "shadow", BuildQuality::low},
+                        {320, 240, 16, "shadow", BuildQuality::medium},
+                        {640, 480, 1024, "whitted", BuildQuality::high}};
+  uint64_t bytes[3] = {0, 0, 0};
+  for (BuildQuality q : {BuildQuality::low, BuildQuality::medium, BuildQuality::high}) {
+    Session session(request, options);
+    RenderJob job;
+    job.width = 64;
+    job.height = 48;
+    job.build_quality = q;
+    EXPECT_EQ(session.build_quality(job), q);
+    session.render_scene(job);
+    bytes[static_cast<int>(q)] = session.memory_bytes();
+  }
+  EXPECT_NE(bytes[0], bytes[1]);
+  EXPECT_NE(bytes[1], bytes[2]);
+  for (const Case& c : cases) {
+    Session session(request, options);
+    RenderJob job;
+    job.width = c.width;
+    job.height = c.height;
+    job.film.spp = c.spp;
+    job.integrator = c.integrator;
+    ASSERT_EQ(job.build_quality, BuildQuality::automatic);  // the default
+    EXPECT_EQ(session.build_quality(job), c.expected) << c.width << "x" << c.height << " " << c.spp;
+    session.render_scene(job);
+    EXPECT_EQ(session.memory_bytes(), bytes[static_cast<int>(c.expected)]) << to_string(c.expected);
+  }
 }
 
 }  // namespace

@@ -92,11 +92,20 @@ bool valid_mesh(const SceneDescription& scene, const MeshInstance& node) {
 
 }  // namespace
 
+BuildQuality automatic_build_quality(double expected_rays, double primitives) {
+  if (!(primitives > 0.0)) return BuildQuality::medium;  // nothing to build: any will do
+  const double rays_per_primitive = expected_rays / primitives;
+  if (rays_per_primitive < kLowBuildRaysPerPrimitive) return BuildQuality::low;
+  if (rays_per_primitive > kHighBuildRaysPerPrimitive) return BuildQuality::high;
+  return BuildQuality::medium;
+}
+
 RTCBuildQuality embree_build_quality(BuildQuality quality) {
   switch (quality) {
     case BuildQuality::low:
       return RTC_BUILD_QUALITY_LOW;
     case BuildQuality::medium:
+    case BuildQuality::automatic:
       return RTC_BUILD_QUALITY_MEDIUM;
     case BuildQuality::high:
       break;

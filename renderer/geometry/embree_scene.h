@@ -43,13 +43,26 @@ namespace prism {
 // Embree's BVH build quality (RTC_BUILD_QUALITY_*): a better tree traces faster and takes
 // longer to build; which pays depends on how many rays the tree will see
 // (docs/benchmarks.md, "BVH build quality and flags").
-enum class BuildQuality { low, medium, high };
-inline constexpr EnumName<BuildQuality> kBuildQualityNames[] = {
-    {BuildQuality::low, "low"}, {BuildQuality::medium, "medium"}, {BuildQuality::high, "high"}};
+// `automatic` is a request, settled by automatic_build_quality before anything is built.
+enum class BuildQuality { low, medium, high, automatic };
+inline constexpr EnumName<BuildQuality> kBuildQualityNames[] = {{BuildQuality::low, "low"},
+                                                                {BuildQuality::medium, "medium"},
+                                                                {BuildQuality::high, "high"},
+                                                                {BuildQuality::automatic, "auto"}};
 constexpr std::span<const EnumName<BuildQuality>> enum_names(BuildQuality) {
   return kBuildQualityNames;
 }
+// `automatic` builds as medium.
 RTCBuildQuality embree_build_quality(BuildQuality quality);
+
+// The build that costs least in total for `expected_rays` rays through `primitives`
+// primitives: a build's time grows with the primitives and a better tree saves time per ray,
+// so below kLowBuildRaysPerPrimitive rays per primitive LOW's faster build outweighs its
+// slower traversal, above kHighBuildRaysPerPrimitive HIGH's slower build pays, and MEDIUM
+// between (the crossovers measured in docs/benchmarks.md, "Automatic build quality").
+inline constexpr double kLowBuildRaysPerPrimitive = 8.0;
+inline constexpr double kHighBuildRaysPerPrimitive = 64.0;
+BuildQuality automatic_build_quality(double expected_rays, double primitives);
 
 struct GeometryOptions {
   SphereOptions spheres;
