@@ -53,8 +53,9 @@ inline ChiSquareResult chi_square(const std::vector<double>& observed,
 inline double chi_square_test(const std::vector<double>& observed,
                               const std::vector<double>& expected) {
   const ChiSquareResult r = chi_square(observed, expected);
-  if (r.pooled_expected < 5.0)
+  if (r.pooled_expected < 5.0) {
     EXPECT_LT(r.pooled_observed, 20.0) << "samples where the pdf says there are almost none";
+  }
   return r.p_value;
 }
 
