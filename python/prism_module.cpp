@@ -341,7 +341,7 @@ PYBIND11_MODULE(_prism, m) {
           py::arg("hide_environment") = false, py::arg("look_from") = py::none(),
           py::arg("look_at") = py::none(), py::arg("up") = py::none(), py::arg("fov") = py::none(),
           py::arg("brdf") = "gltf", py::arg("spheres") = "analytic", py::arg("robust") = false,
-          py::arg("build_quality") = "medium", py::arg("reference") = "",
+          py::arg("build_quality") = "auto", py::arg("reference") = "",
           "Renders one job; integrator parameters (max_depth=..., ambient=...) as keywords.");
 
   py::class_<PyRender>(m, "Render", "One finished render: image, rays, timings, metadata.")

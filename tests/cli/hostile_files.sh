@@ -147,7 +147,11 @@ for sig in TERM INT; do
   pid=$!
   seen=0
   for _ in $(seq 4000); do
-    if compgen -G "$TMP/outputs/.big.exr.tmp-*" >/dev/null; then seen=1; kill -"$sig" "$pid"; break; fi
+    # A non-empty temporary: the write itself, not the empty probe made and removed at once
+    # when the output is checked before the render.
+    if [[ -n $(find "$TMP/outputs" -name '.big.exr.tmp-*' -size +0 2>/dev/null) ]]; then
+      seen=1; kill -"$sig" "$pid"; break
+    fi
     kill -0 "$pid" 2>/dev/null || break
     sleep 0.002
   done
