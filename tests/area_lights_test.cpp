@@ -20,11 +20,6 @@ namespace {
 
 constexpr double kPiD = std::numbers::pi;
 
-V3f spherical(double cos_theta, double phi) {
-  const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
-  return V3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(cos_theta));
-}
-
 struct ChiSquare {
   double p_value = 0.0;
   double pdf_integral = 0.0;  // pdf() over the sphere of directions
@@ -34,21 +29,17 @@ struct ChiSquare {
 // compares it with pdf() integrated over each cell, pooling cells expecting fewer than 5.
 ChiSquare chi_square(const AreaLight& light, const V3f& point, int samples) {
   constexpr int kTheta = 80, kPhi = 160, kSub = 16;
-  std::vector<double> observed(kTheta * kPhi, 0.0), expected(kTheta * kPhi, 0.0);
+  const testing::DirectionGrid grid{kTheta, kPhi};
+  std::vector<double> observed(grid.cells(), 0.0), expected(grid.cells(), 0.0);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   for (int i = 0; i < samples; ++i) {
     LightSample s;
     if (!light.sample(point, Imath::V2f(u01(rng), u01(rng)), &s)) continue;
-    const double c = std::clamp(double(s.wi.z), -1.0, 1.0);
-    double phi = std::atan2(double(s.wi.y), double(s.wi.x));
-    if (phi < 0) phi += 2 * kPiD;
-    const int t = std::min(kTheta - 1, int((c + 1.0) * 0.5 * kTheta));
-    const int p = std::min(kPhi - 1, int(phi / (2 * kPiD) * kPhi));
-    observed[size_t(t * kPhi + p)] += 1.0;
+    observed[grid.cell_of(s.wi)] += 1.0;
   }
   ChiSquare result;
-  const double cell = (2.0 / kTheta) * (2 * kPiD / kPhi);
+  const double cell = grid.cell_solid_angle();
   // The midpoint rule over a cell: 16 x 16 points, or 128 x 128 where the light's edge
   // crosses the cell (some points see it, some do not), whose coarse estimate would be off by
   // far more than the test's noise.
@@ -57,9 +48,7 @@ ChiSquare chi_square(const AreaLight& light, const V3f& point, int samples) {
     bool some = false, all = true;
     for (int a = 0; a < sub; ++a)
       for (int b = 0; b < sub; ++b) {
-        const double c = -1.0 + (t + (a + 0.5) / sub) * 2.0 / kTheta;
-        const double phi = (p + (b + 0.5) / sub) * 2 * kPiD / kPhi;
-        const double value = light.pdf(point, spherical(c, phi));
+        const double value = light.pdf(point, grid.point(t, p, a, b, sub));
         integral += value;
         if (value > 0.0)
           some = true;

@@ -23,8 +23,7 @@ namespace {
 constexpr double kPiD = std::numbers::pi;
 
 V3f spherical(double cos_theta, double phi) {
-  const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
-  return V3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(cos_theta));
+  return testing::DirectionGrid::direction(cos_theta, phi);
 }
 
 // The lecture model: Lambert rho_d / pi plus the normalised Phong lobe ks (n + 2)/(2 pi) (R.V)^n.
@@ -65,30 +64,22 @@ double chi_square_test(const Bsdf& bsdf, const V3f& wo, int samples,
                        const Bsdf* claimed_pdf = nullptr) {
   const Bsdf& density = claimed_pdf ? *claimed_pdf : bsdf;
   constexpr int kTheta = 20, kPhi = 40, kSub = 24;
-  std::vector<double> observed(kTheta * kPhi, 0.0), expected(kTheta * kPhi, 0.0);
+  const testing::DirectionGrid grid{kTheta, kPhi};
+  std::vector<double> observed(grid.cells(), 0.0), expected(grid.cells(), 0.0);
   std::mt19937 rng(12345);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   for (int i = 0; i < samples; ++i) {
     BsdfSample s;
     if (!bsdf.sample(wo, u01(rng), Imath::V2f(u01(rng), u01(rng)), false, &s)) continue;
     if (s.specular()) continue;
-    const double cos_theta = std::clamp(double(s.wi.z), -1.0, 1.0);
-    double phi = std::atan2(double(s.wi.y), double(s.wi.x));
-    if (phi < 0) phi += 2 * kPiD;
-    const int t = std::min(kTheta - 1, int((cos_theta + 1.0) * 0.5 * kTheta));
-    const int p = std::min(kPhi - 1, int(phi / (2 * kPiD) * kPhi));
-    observed[size_t(t * kPhi + p)] += 1.0;
+    observed[grid.cell_of(s.wi)] += 1.0;
   }
   for (int t = 0; t < kTheta; ++t)
     for (int p = 0; p < kPhi; ++p) {
       double integral = 0.0;
       for (int a = 0; a < kSub; ++a)
-        for (int b = 0; b < kSub; ++b) {
-          const double c = -1.0 + (t + (a + 0.5) / kSub) * 2.0 / kTheta;
-          const double phi = (p + (b + 0.5) / kSub) * 2 * kPiD / kPhi;
-          integral += density.pdf(wo, spherical(c, phi));
-        }
-      const double cell = (2.0 / kTheta) * (2 * kPiD / kPhi);  // solid angle
+        for (int b = 0; b < kSub; ++b) integral += density.pdf(wo, grid.point(t, p, a, b, kSub));
+      const double cell = grid.cell_solid_angle();
       expected[size_t(t * kPhi + p)] = integral / (kSub * kSub) * cell * samples;
     }
   return testing::chi_square_test(observed, expected);

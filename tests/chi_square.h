@@ -5,8 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <Imath/ImathVec.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <numbers>
 #include <vector>
 
 namespace prism::testing {
@@ -58,5 +62,36 @@ inline double chi_square_test(const std::vector<double>& observed,
   }
   return r.p_value;
 }
+
+// The (cos theta, phi) grid over the sphere of directions that the sampling tests histogram
+// on: every cell has the same solid angle, and a point of a cell is found from sub-cell
+// indices for the midpoint rule that integrates a pdf over it.
+struct DirectionGrid {
+  int theta_cells, phi_cells;
+
+  static Imath::V3f direction(double cos_theta, double phi) {
+    const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+    return Imath::V3f(float(s * std::cos(phi)), float(s * std::sin(phi)), float(cos_theta));
+  }
+  size_t cells() const { return size_t(theta_cells) * size_t(phi_cells); }
+  double cell_solid_angle() const {
+    return (2.0 / theta_cells) * (2.0 * std::numbers::pi / phi_cells);
+  }
+  // The cell a unit direction falls in, row-major (theta, then phi).
+  size_t cell_of(const Imath::V3f& w) const {
+    const double c = std::clamp(double(w.z), -1.0, 1.0);
+    double phi = std::atan2(double(w.y), double(w.x));
+    if (phi < 0) phi += 2.0 * std::numbers::pi;
+    const int t = std::min(theta_cells - 1, int((c + 1.0) * 0.5 * theta_cells));
+    const int p = std::min(phi_cells - 1, int(phi / (2.0 * std::numbers::pi) * phi_cells));
+    return size_t(t) * size_t(phi_cells) + size_t(p);
+  }
+  // The centre of sub-cell (a, b) of `sub` x `sub` in cell (t, p).
+  Imath::V3f point(int t, int p, int a, int b, int sub) const {
+    const double c = -1.0 + (t + (a + 0.5) / sub) * 2.0 / theta_cells;
+    const double phi = (p + (b + 0.5) / sub) * 2.0 * std::numbers::pi / phi_cells;
+    return direction(c, phi);
+  }
+};
 
 }  // namespace prism::testing
