@@ -204,6 +204,28 @@ V3d parse_vector_option(const std::string& text, const std::string& option) {
   return V3d(v[0], v[1], v[2]);
 }
 
+TileRect parse_region_option(const std::string& text, const std::string& option) {
+  long v[4] = {};
+  size_t at = 0;
+  for (int i = 0; i < 4; ++i) {
+    const size_t end = i < 3 ? text.find(',', at) : text.size();
+    const std::string part =
+        end == std::string::npos || at > text.size() ? std::string() : text.substr(at, end - at);
+    char* stop = nullptr;
+    errno = 0;
+    v[i] = std::strtol(part.c_str(), &stop, 10);
+    if (part.empty() || *stop != '\0' || errno != 0 || v[i] < 0 || v[i] > kMaxImageSide)
+      throw UsageError(option + " " + text + ": expected X0,Y0,X1,Y1, four whole numbers of " +
+                       "pixels from 0 to " + std::to_string(kMaxImageSide));
+    at = end + 1;
+  }
+  if (v[0] >= v[2] || v[1] >= v[3])
+    throw UsageError(option + " " + text + ": expected X0 < X1 and Y0 < Y1 (X1 and Y1 are the " +
+                     "first column and row after the region)");
+  return TileRect{static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2]),
+                  static_cast<int>(v[3])};
+}
+
 SphereOptions parse_spheres_option(const std::string& text, const std::string& option) {
   SphereOptions spheres;
   std::string error;

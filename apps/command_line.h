@@ -108,6 +108,9 @@ E parse_choice(const std::string& text, const std::string& option) {
 }
 // "X,Y,Z" (three finite numbers) -> the vector; UsageError naming `option` otherwise.
 V3d parse_vector_option(const std::string& text, const std::string& option);
+// "X0,Y0,X1,Y1" (four whole numbers, X0 < X1 and Y0 < Y1) -> the pixel rectangle; the session
+// checks it against the image's size. UsageError naming `option` otherwise.
+TileRect parse_region_option(const std::string& text, const std::string& option);
 // "analytic", "mesh:3", ... -> SphereOptions; `option` names the flag in the error.
 SphereOptions parse_spheres_option(const std::string& text, const std::string& option);
 // An integrator name of the registry; `option` names the flag in the error.

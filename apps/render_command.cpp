@@ -90,6 +90,15 @@ RenderRequest render_request(const RenderOptions& o) {
   job.film.min_spp = o.min_spp;
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
+  // Adaptive sampling decides after --min-spp samples and stops at --spp: with no room
+  // between them it would take every sample in every pixel, as if not asked.
+  if (o.target_error > 0.0 && o.spp <= o.min_spp)
+    throw UsageError("--target-error " + format_error(o.target_error) + " with --spp " +
+                     std::to_string(o.spp) + ": adaptive sampling takes --min-spp " +
+                     std::to_string(o.min_spp) + " samples in every pixel before it decides and " +
+                     "at most --spp, so it would change nothing; raise --spp above " +
+                     std::to_string(o.min_spp) + " or lower --min-spp");
+  if (!o.region.empty()) job.film.region = parse_region_option(o.region, "--region");
   if (!std::isfinite(o.checkpoint_interval) || o.checkpoint_interval < 0.0)
     throw UsageError("--checkpoint-interval " + std::to_string(o.checkpoint_interval) +
                      ": must be a finite number of seconds >= 0");
@@ -119,6 +128,13 @@ int run(const RenderOptions& o) {
   files.exr_only = false;  // a render's -o may be any format; a batch's stay EXR
   const SceneRequest& request = r.scene;
   check_output_files(files, o.scene.scene_path);
+  // Options the output's format does not have: said before the render, as a typo should be.
+  std::vector<std::string> ignored;
+  ImageFormat format = ImageFormat::exr;
+  if (image_format_for_path(files.image, &format) && format != ImageFormat::exr) {
+    if (o.half) ignored.push_back("--half");
+    if (o.compression_given) ignored.push_back("--compression");
+  }
   const bool checkpoints = r.checkpoint_interval > 0.0;
   // Before the scene loads, so that a SIGTERM during a long load is not lost either.
   StopSignalScope signals(checkpoints);
@@ -137,6 +153,12 @@ int run(const RenderOptions& o) {
       std::fprintf(stderr, "prism: --detect-spheres: %s: %s\n", o.scene.scene_path.c_str(),
                    line.c_str());
   }
+  if (root && !o.quiet)
+    for (const std::string& option : ignored)
+      std::fprintf(stderr,
+                   "prism: warning: %s sets how EXR files are stored; %s is not one and is "
+                   "written without it (-o NAME.exr writes an EXR)\n",
+                   option.c_str(), files.image.c_str());
   if (root) print_warnings(o.scene.scene_path, session.job_warnings(job));
   // Built before the render so that --verbose can describe it and the summary time it.
   double build_seconds = 0.0;
@@ -313,7 +335,9 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
   for (const IntegratorInfo* info : integrator_registry())
     integrators += std::string(integrators.empty() ? "" : "; ") + info->name + ": " + info->summary;
   cmd->add_option("--integrator", o->integrator, integrators)->capture_default_str();
-  cmd->add_option("--spp", o->spp, "Samples per pixel (1 = through pixel centres)")
+  cmd->add_option("--spp", o->spp,
+                  "Samples per pixel, stratified over each pixel (the default anti-aliases); 1 = "
+                  "one ray through each pixel's centre, as the lecture's view rays")
       ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
   cmd->add_option("--target-error", o->target_error,
@@ -330,6 +354,11 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "power of two)")
       ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
+  cmd->add_option("--region", o->region,
+                  "X0,Y0,X1,Y1: render only the pixels X0 <= x < X1, Y0 <= y < Y1 (from the top "
+                  "left), bit-identical to the same pixels of the whole frame; an EXR keeps the "
+                  "full frame as its display window and the region as its data window, other "
+                  "formats hold the region alone");
   cmd->add_option("--sample-count-image", o->sample_count_path,
                   "Also write each pixel's number of samples (R = G = B) to this EXR");
   cmd->add_option("--spheres", o->spheres, "analytic | mesh[:LEVEL] | embree-points")
@@ -347,11 +376,16 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "(mean of (a-b)^2/(b^2+0.01)) against this EXR on stderr; they also go into the "
                   "output's metadata. The image itself is unchanged");
   cmd->add_flag("--half", o->half, "Write half-float EXR pixels instead of 32-bit float");
-  cmd->add_option("--compression", o->compression,
-                  "EXR compression, all lossless: " + enum_choices<ExrCompression>(" | ") +
-                      " (docs/benchmarks.md, \"EXR writing\": none and rle write fastest, "
-                      "piz and zip smallest)")
-      ->capture_default_str();
+  cmd->add_option_function<std::string>(
+      "--compression",
+      [o](const std::string& value) {
+        o->compression = value;
+        o->compression_given = true;
+      },
+      "EXR compression, all lossless: " + enum_choices<ExrCompression>(" | ") +
+          " (docs/benchmarks.md, \"EXR writing\": none and rle write fastest, "
+          "piz and zip smallest; default " +
+          to_string(kDefaultExrCompression) + ")");
   cmd->add_flag("--robust", o->robust, "Watertight triangle intersection (RTC_SCENE_FLAG_ROBUST)")
       ->group(kDeveloperGroup);
   cmd->add_option("--build-quality", o->build_quality,

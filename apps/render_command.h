@@ -11,6 +11,8 @@
 
 namespace prism {
 
+inline constexpr int kDefaultRenderSpp = 16;
+
 struct RenderOptions {
   SceneOptions scene;
   std::string output_path;
@@ -18,17 +20,20 @@ struct RenderOptions {
   std::string view;       // OCIO view of the display-referred outputs; empty = Standard
   double exposure = 0.0;  // stops, display-referred outputs only
   std::string integrator = "whitted";
-  int spp = 1;
+  // Anti-aliased by default (docs/sampling.md); 1 traces the lecture's pixel-centre rays.
+  int spp = kDefaultRenderSpp;
   // Adaptive sampling (docs/sampling.md): 0 = off; with either, spp is the maximum.
   double target_error = 0.0;
   double time_limit = 0.0;
   int min_spp = 8;
   std::string sample_count_path;  // also write each pixel's sample count as an EXR
+  std::string region;             // "X0,Y0,X1,Y1": render only these pixels; empty = all
   std::string spheres = "analytic";
   SphereDetectionFlags sphere_detection;  // --detect-spheres, --sphere-tolerance
   std::string reference_path;             // measure the error against this image after every pass
   bool half = false;
   std::string compression = to_string(kDefaultExrCompression);
+  bool compression_given = false;  // --compression on the command line (not the default)
   bool robust = false;
   std::string build_quality = "auto";  // BVH build quality (docs/benchmarks.md)
   bool general_path = false;           // RenderSettings::specialise = false

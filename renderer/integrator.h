@@ -67,11 +67,18 @@ struct RenderSettings {
   float target_error = 0.0f;        // a pixel stops once its relative error is below; 0 = off
   double time_limit_seconds = 0.0;  // stop after the round in progress once passed; 0 = none
   int min_spp = 8;                  // samples every pixel takes before the first decision
+  // The part of the frame rendered (pbrt's pixel bounds): pixels outside it are not traced
+  // and stay 0 with alpha 0, and an EXR records it as its data window. Every pixel inside is
+  // the full frame's, bit for bit (with adaptive sampling, pixels at its edge may take other
+  // sample counts: their neighbourhood is cut). Empty (x1 == 0): the whole frame.
+  TileRect region{0, 0, 0, 0};
   bool adaptive() const { return target_error > 0.0f || time_limit_seconds > 0.0; }
-};
-
-struct TileRect {
-  int x0, y0, x1, y1;  // [x0, x1) x [y0, y1)
+  bool has_region() const { return region.x1 > 0; }
+  TileRect rendered() const { return has_region() ? region : TileRect{0, 0, width, height}; }
+  int64_t rendered_pixels() const {
+    const TileRect r = rendered();
+    return int64_t{r.x1 - r.x0} * (r.y1 - r.y0);
+  }
 };
 
 // The tile loop traces camera rays in packets of kPacketBlock x kPacketBlock pixels

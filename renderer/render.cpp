@@ -11,18 +11,31 @@
 #include <tbb/parallel_for.h>
 
 #include "renderer/sampling/adaptive_sampling.h"
+#include "renderer/sampling/random.h"
 
 namespace prism {
 
 // Tiles are whole numbers of the tile loop's 4 x 4 packet blocks (integrators/tile_loop.h),
 // which then start at multiples of 4 in the image whatever the tile size: which camera rays
 // share a packet, and so the image, does not depend on it.
+// A region keeps the full frame's tile grid, each tile cut to the region widened to whole
+// packet blocks, so that every pixel is traced in the packet it has in the full frame.
 std::vector<TileRect> make_tiles(const RenderSettings& s) {
   const int ts = (std::max(1, s.tile_size) + kPacketBlock - 1) / kPacketBlock * kPacketBlock;
+  const TileRect r = s.rendered();
+  const int rx0 = r.x0 / kPacketBlock * kPacketBlock, ry0 = r.y0 / kPacketBlock * kPacketBlock;
+  const int rx1 = std::min(s.width, (r.x1 + kPacketBlock - 1) / kPacketBlock * kPacketBlock);
+  const int ry1 = std::min(s.height, (r.y1 + kPacketBlock - 1) / kPacketBlock * kPacketBlock);
   std::vector<TileRect> tiles;
-  for (int y = 0; y < s.height; y += ts)
-    for (int x = 0; x < s.width; x += ts)
-      tiles.push_back({x, y, std::min(x + ts, s.width), std::min(y + ts, s.height)});
+  for (int y = ry0 / ts * ts; y < ry1; y += ts)
+    for (int x = rx0 / ts * ts; x < rx1; x += ts)
+      tiles.push_back(
+          {std::max(x, rx0), std::max(y, ry0), std::min(x + ts, rx1), std::min(y + ts, ry1)});
+  // Visited in a fixed shuffled order, not row by row: the tiles done so far are then a fair
+  // sample of the image's cost (sky rows are cheap, the ground dear), so the rate the
+  // progress bar's ETA extrapolates holds for the tiles left. The order changes no pixel.
+  for (size_t i = tiles.size(); i > 1; --i)
+    std::swap(tiles[i - 1], tiles[mix64(0x7469'6c65'7300'0000ULL + i) % i]);
   return tiles;
 }
 
@@ -177,6 +190,13 @@ RenderState initial_state(const RenderSettings& s, const RenderState* resume, Im
   return state;
 }
 
+// The blocks' margins around a region were traced for their neighbours' sake only.
+void clear_outside(const TileRect& r, Image* image) {
+  for (int y = 0; y < image->height; ++y)
+    for (int x = 0; x < image->width; ++x)
+      if (x < r.x0 || x >= r.x1 || y < r.y0 || y >= r.y1) std::fill_n(image->pixel(x, y), 4, 0.0f);
+}
+
 RenderResult render_uniform(const RenderContext& context, const std::vector<TileRect>& tiles,
                             PassRunner* runner, Image* image, const RenderCallbacks& callbacks) {
   const RenderSettings& s = context.settings;
@@ -222,6 +242,16 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
   std::vector<uint32_t>& samples = state.samples_per_pixel;
   std::vector<float>& error = state.error;
   std::vector<uint8_t> tile_active;
+  // Pixels outside the region take no samples (the blocks' margins around it included).
+  if (s.has_region() && !callbacks.resume) {
+    const TileRect r = s.region;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x)
+        if (x < r.x0 || x >= r.x1 || y < r.y0 || y >= r.y1) {
+          active[static_cast<size_t>(y) * s.width + x] = 0;
+          samples[static_cast<size_t>(y) * s.width + x] = 0;
+        }
+  }
 
   // Checkpoints split rounds into passes of one sample, and progress then counts tiles per
   // sample rather than per round.
@@ -318,8 +348,10 @@ RenderResult render(const Integrator& integrator, const RenderContext& context, 
   *image = Image(s.width, s.height);
   const std::vector<TileRect> tiles = make_tiles(s);
   PassRunner runner(integrator, image, callbacks);
-  return s.adaptive() ? render_adaptive(context, tiles, &runner, image, callbacks)
-                      : render_uniform(context, tiles, &runner, image, callbacks);
+  RenderResult result = s.adaptive() ? render_adaptive(context, tiles, &runner, image, callbacks)
+                                     : render_uniform(context, tiles, &runner, image, callbacks);
+  if (s.has_region()) clear_outside(s.region, image);
+  return result;
 }
 
 }  // namespace prism

@@ -29,10 +29,10 @@ struct RenderResult {
   RayCounters resumed_rays;
   std::vector<uint32_t> samples_per_pixel;  // row-major: the samples each pixel took
 
-  // Samples per pixel taken, over the whole image (one camera ray per sample).
+  // Samples per pixel taken, over the pixels rendered (one camera ray per sample).
   double mean_spp(const RenderSettings& settings) const {
     return static_cast<double>(rays[RayKind::camera]) /
-           (static_cast<double>(settings.width) * settings.height);
+           static_cast<double>(settings.rendered_pixels());
   }
 };
 

@@ -96,6 +96,11 @@ std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
   line("target-error", number(job.film.target_error));
   line("time-limit", number(job.film.time_limit_seconds));
   line("min-spp", std::to_string(job.film.min_spp));
+  if (job.film.has_region()) {
+    const TileRect& r = job.film.region;
+    line("region", std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) +
+                       "," + std::to_string(r.y1));
+  }
   line("working-space", to_string(job.working_space));
   line("background",
        number(job.background.x) + "," + number(job.background.y) + "," + number(job.background.z));

@@ -90,9 +90,13 @@ Image sample_count_image(const RenderOutput& output) {
 
 void write_output_files(const OutputFiles& files, const RenderOutput& output,
                         const ColourPipeline& colour, int threads) {
+  // Formats without a data window show a region alone, as pbrt writes a crop window.
+  const std::optional<TileRect>& region = output.metadata.region;
+  const Image cropped = region ? crop(output.image, *region) : Image();
+  const Image& shown = region ? cropped : output.image;
   // The master last: once it exists, so do the others, and a batch that finds it (with its
   // job's fingerprint) after a kill may skip the job.
-  if (!files.preview.empty()) write_png_preview(files.preview, output.image, colour, files.display);
+  if (!files.preview.empty()) write_png_preview(files.preview, shown, colour, files.display);
   if (!files.sample_counts.empty())
     write_exr(files.sample_counts, sample_count_image(output), colour, output.metadata,
               {ExrPixelType::float32, files.compression, threads});
@@ -101,7 +105,7 @@ void write_output_files(const OutputFiles& files, const RenderOutput& output,
     write_exr(files.image, output.image, colour, output.metadata,
               {files.pixel_type, files.compression, threads});
   else
-    write_image(files.image, format, output.image, colour, files.display);
+    write_image(files.image, format, shown, colour, files.display);
 }
 
 }  // namespace prism

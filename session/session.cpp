@@ -377,6 +377,17 @@ RenderSettings Session::film_for(const RenderJob& job, const CameraDescription& 
       film.width = std::max(1, static_cast<int>(width));
     }
   }
+  if (film.has_region()) {
+    const TileRect& r = film.region;
+    if (r.x0 < 0 || r.y0 < 0 || r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > film.width ||
+        r.y1 > film.height)
+      throw RequestError(
+          "region",
+          std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," +
+              std::to_string(r.y1) +
+              ": expected X0,Y0,X1,Y1 with 0 <= X0 < X1 <= " + std::to_string(film.width) +
+              " and 0 <= Y0 < Y1 <= " + std::to_string(film.height) + " (the image's size)");
+  }
   if (camera.projection == Projection::orthographic) {
     const OrthographicFit fit = fit_orthographic(camera, film.width, film.height);
     if (fit.xmag_changed)
@@ -496,8 +507,8 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
   }
   const BuildQuality quality = build_quality(job);
   auto key =
-      std::make_tuple(to_string(job.spheres), job.robust, quality, job.working_space,
-                      key_light, std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
+      std::make_tuple(to_string(job.spheres), job.robust, quality, job.working_space, key_light,
+                      std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
   if (built_.scene && built_.key == key) {
     // Another environment needs no new BVH: only the light choices that weigh it change.
@@ -555,7 +566,10 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
   render_callbacks.resume = callbacks.resume;
   if (!job.reference_path.empty()) {
     render_callbacks.after_pass = [&](int samples, const Image& so_far) {
-      const ImageError e = compare_images(so_far, reference);
+      // A region is measured where it was rendered.
+      const ImageError e = p.film.has_region() ? compare_images(crop(so_far, p.film.region),
+                                                                crop(reference, p.film.region))
+                                               : compare_images(so_far, reference);
       const PassError pass{samples, e.overall.rmse, e.overall.relmse};
       out.pass_errors.push_back(pass);
       if (callbacks.pass_error) callbacks.pass_error(pass);
@@ -596,6 +610,7 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Came
   m.integrator = out.integrator;
   m.spp = p.film.spp;
   m.render_seconds = out.result.seconds;
+  if (p.film.has_region()) m.region = p.film.region;
   m.world_to_camera = camera.world_to_camera();
   m.world_to_ndc = camera.world_to_ndc();
   m.scene_path = request_.path;

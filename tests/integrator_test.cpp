@@ -289,5 +289,73 @@ TEST(Determinism, ImageIsBitIdenticalWithOneAndTwoThreads) {
                            one.image.rgba.size() * sizeof(float)));
 }
 
+// A region's tiles are the full frame's tiles cut to it, widened to whole packet blocks: they
+// cover every pixel of the region once and start on the block grid, for any tile size.
+TEST(Region, TilesCoverItOnceOnThePacketGrid) {
+  RenderSettings s;
+  s.width = 97;
+  s.height = 61;
+  s.region = TileRect{13, 6, 59, 41};
+  for (int tile_size : {3, 8, 16, 64}) {
+    s.tile_size = tile_size;
+    std::vector<int> covered(static_cast<size_t>(s.width) * s.height, 0);
+    for (const TileRect& t : make_tiles(s)) {
+      EXPECT_EQ(t.x0 % kPacketBlock, 0) << tile_size;
+      EXPECT_EQ(t.y0 % kPacketBlock, 0) << tile_size;
+      for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x) ++covered[static_cast<size_t>(y) * s.width + x];
+    }
+    int outside_margin = 0, inside_missed = 0;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x) {
+        const int n = covered[static_cast<size_t>(y) * s.width + x];
+        EXPECT_LE(n, 1);
+        const bool inside = x >= 13 && x < 59 && y >= 6 && y < 41;
+        const bool margin = x >= 12 && x < 60 && y >= 4 && y < 44;  // widened to blocks of 4
+        if (inside && n == 0) ++inside_missed;
+        if (!margin && n > 0) ++outside_margin;
+      }
+    EXPECT_EQ(inside_missed, 0) << tile_size;
+    EXPECT_EQ(outside_margin, 0) << tile_size;
+  }
+}
+
+// Every pixel of a region is the full frame's, bit for bit, whatever the tile size and thread
+// count; every pixel outside it is 0 with alpha 0.
+TEST(Region, PixelsAreTheFullFramesAndTheRestIsEmpty) {
+  SceneDescription scene = disc_scene();
+  scene.materials[0].roughness = 0.3f;
+  scene.meshes.push_back(quad_mesh(5.0f, -1.0f, 0));
+  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  testing::TestSettings settings;
+  settings.width = 97;
+  settings.height = 61;
+  settings.spp = 4;
+  const auto whitted = make_integrator("whitted");
+  const auto full = render_scene(scene, *whitted, settings);
+  settings.region = TileRect{13, 6, 59, 41};
+  int lit = 0;
+  for (int threads : {1, 2}) {
+    settings.threads = threads;
+    settings.tile_size = threads == 1 ? 8 : 16;
+    const auto part = render_scene(scene, *whitted, settings);
+    int differ = 0, not_empty = 0;
+    for (int y = 0; y < settings.height; ++y)
+      for (int x = 0; x < settings.width; ++x) {
+        const float* a = full.image.pixel(x, y);
+        const float* b = part.image.pixel(x, y);
+        if (x >= 13 && x < 59 && y >= 6 && y < 41) {
+          differ += std::memcmp(a, b, 4 * sizeof(float)) != 0;
+          lit += b[3] > 0.0f;
+        } else {
+          not_empty += b[0] != 0.0f || b[1] != 0.0f || b[2] != 0.0f || b[3] != 0.0f;
+        }
+      }
+    EXPECT_EQ(differ, 0) << threads;
+    EXPECT_EQ(not_empty, 0) << threads;
+  }
+  EXPECT_GT(lit, 100);  // the region sees the scene: the comparison means something
+}
+
 }  // namespace
 }  // namespace prism

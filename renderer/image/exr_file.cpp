@@ -72,7 +72,9 @@ int pool_size(int threads) {
 
 void write_exr_file(const std::string& path, const Image& image, const ExrHeader& fields,
                     const ExrWriteOptions& options) {
-  Imf::Header header(image.width, image.height);
+  const TileRect window = fields.data_window.value_or(TileRect{0, 0, image.width, image.height});
+  const Imath::Box2i display({0, 0}, {image.width - 1, image.height - 1});
+  Imf::Header header(display, Imath::Box2i({window.x0, window.y0}, {window.x1 - 1, window.y1 - 1}));
   header.compression() = to_imf(options.compression);
   header.zipCompressionLevel() = std::clamp(options.zip_level, 1, 9);
   if (fields.chromaticities) {
@@ -102,6 +104,8 @@ void write_exr_file(const std::string& path, const Image& image, const ExrHeader
   }
   const size_t x_stride = 4 * value_size;
   const size_t y_stride = x_stride * static_cast<size_t>(image.width);
+  // Slices address pixel (x, y) in display-window coordinates, which are the image's own:
+  // a data window's pixels are read from where they sit in the whole image.
   for (int c = 0; c < 4; ++c) {
     header.channels().insert(names[c], Imf::Channel(type));
     frame.insert(names[c], Imf::Slice(type, base + c * value_size, x_stride, y_stride));
@@ -112,7 +116,7 @@ void write_exr_file(const std::string& path, const Image& image, const ExrHeader
     if (Imf::globalThreadCount() != threads) Imf::setGlobalThreadCount(threads);
     Imf::OutputFile file(path.c_str(), header, threads);
     file.setFrameBuffer(frame);
-    file.writePixels(image.height);
+    file.writePixels(window.y1 - window.y0);
   } catch (const std::exception& e) {
     fail(path, e.what());
   }

@@ -39,6 +39,9 @@ inline constexpr int kDefaultZipLevel = 4;
 
 // What an EXR's header carries besides the pixels.
 struct ExrHeader {
+  // The pixels stored, inside the display window (the whole image): a render of a region
+  // (RenderSettings::region) stores only it. Empty: the whole image.
+  std::optional<TileRect> data_window;
   std::optional<std::array<float, 8>> chromaticities;  // red, green, blue, white (x, y)
   std::optional<std::array<float, 16>> world_to_camera, world_to_ndc;  // row-major
   std::vector<std::pair<std::string, std::string>> strings;

@@ -195,6 +195,7 @@ void write_exr(const std::string& path, const Image& image, const ColourPipeline
                const RenderMetadata& metadata, const ExrWriteOptions& options) {
   check_image(path, image);
   ExrHeader header;
+  header.data_window = metadata.region;
   header.chromaticities = colour.chromaticities();
   header.world_to_camera = to_float_matrix(metadata.world_to_camera);
   header.world_to_ndc = to_float_matrix(metadata.world_to_ndc);

@@ -4,6 +4,7 @@
 // failed or interrupted write never leaves a half-written file or clobbers an old one.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,6 +23,9 @@ struct RenderMetadata {
   M44d world_to_camera;  // Imath row-vector convention, as OpenEXR's worldToCamera
   M44d world_to_ndc;     // as OpenEXR's worldToNDC
   std::string scene_path;
+  // The part of the image rendered (RenderSettings::region), stored as the EXR's data window;
+  // empty: the whole image.
+  std::optional<TileRect> region;
   // Anything else worth keeping (sphere mode, ray counts, ...), as prism:<key> attributes.
   std::vector<std::pair<std::string, std::string>> extra;
 };

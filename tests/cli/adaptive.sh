@@ -32,6 +32,11 @@ expect_usage "--time-limit" --time-limit 0
 expect_usage "--time-limit" --time-limit -5
 expect_usage "--min-spp" --min-spp 0
 expect_usage "--min-spp 12: must be a power of two" --min-spp 12 --target-error 0.01
+# A maximum at or below the minimum leaves adaptive sampling nothing to decide.
+expect_usage "--target-error 0.01 with --spp 8: adaptive sampling takes --min-spp 8 samples .*raise --spp above 8" \
+  --target-error 0.01 --spp 8
+expect_usage "--target-error 0.05 with --spp 1: .*--min-spp 8" --target-error 0.05 --spp 1
+expect_usage "--target-error 0.05 with --spp 4: .*--min-spp 4 samples" --target-error 0.05 --spp 4 --min-spp 4
 expect_usage "--sample-count-image .*must end in .exr" --target-error 0.01 \
   --sample-count-image "$TMP/counts.png"
 

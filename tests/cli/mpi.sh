@@ -52,7 +52,7 @@ done
 
 # Adaptive sampling is not split yet: one line from rank 0, exit 2.
 "${MPIRUN[@]}" -n 2 "$PRISM" render "$SCENE" -o "$TMP/adaptive.exr" "${ARGS[@]}" \
-  --target-error 0.05 >"$TMP/out" 2>"$TMP/err"
+  --min-spp 2 --target-error 0.05 >"$TMP/out" 2>"$TMP/err"
 code=$?
 errors=$(grep -c '^prism: error:' "$TMP/err")
 if [[ $code -ne 2 || $errors -ne 1 ]] ||

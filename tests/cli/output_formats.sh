@@ -60,5 +60,36 @@ expect 2 "^prism: error: --preview /proc/prism-out.png: cannot be written: " -- 
 [[ -e "$TMP/w.exr" ]] && fail "a render refused for its preview wrote its image"
 ls -A "$TMP" | grep -q "tmp-" && fail "temporary files left behind: $(ls -A "$TMP")"
 
+# --half and --compression shape EXR files only: with a PNG or TIFF output each is one warning
+# line, said before the render, and the file is written; with an EXR, none.
+for option in "--half" "--compression zip"; do
+  "$PRISM" render "$SCENE" --res 32x24 --spp 1 -o "$TMP/h.png" $option >/dev/null 2>"$TMP/err" ||
+    fail "$option with a PNG output exited $?"
+  name=${option%% *}
+  if [[ $(grep -c "^prism: warning: $name sets how EXR files are stored; $TMP/h.png is not one" "$TMP/err") -ne 1 ]]; then
+    fail "$option with a PNG output: no single warning: $(cat "$TMP/err")"
+  else
+    echo "ok: $option with a PNG output warns once"
+  fi
+  [[ -s "$TMP/h.png" ]] || fail "$option with a PNG output wrote nothing"
+  rm -f "$TMP/h.png"
+  "$PRISM" render "$SCENE" --res 32x24 --spp 1 -o "$TMP/h.exr" $option >/dev/null 2>"$TMP/err" ||
+    fail "$option with an EXR output exited $?"
+  grep -q "sets how EXR files are stored" "$TMP/err" && fail "$option with an EXR output warned: $(cat "$TMP/err")"
+done
+"$PRISM" render "$SCENE" --res 32x24 --spp 1 -o "$TMP/h.tif" --half -q >/dev/null 2>"$TMP/err" || fail "-q --half .tif exited $?"
+[[ -s "$TMP/err" ]] && fail "-q still warned: $(cat "$TMP/err")"
+
+# The default render is anti-aliased: 16 samples per pixel, recorded in the EXR; --spp 1 is
+# the lecture's pixel-centre rays.
+"$PRISM" render "$SCENE" --res 32x24 -q -o "$TMP/default.exr" || fail "default render exited $?"
+"$PRISM" render "$SCENE" --res 32x24 -q --spp 1 -o "$TMP/one.exr" || fail "--spp 1 render exited $?"
+spp=$(oiiotool --info -v "$TMP/default.exr" | sed -n 's/^ *prism:spp: //p')
+[[ $spp == 16 ]] && echo "ok: default render takes 16 spp" || fail "default render's prism:spp is '$spp', expected 16"
+spp=$(oiiotool --info -v "$TMP/one.exr" | sed -n 's/^ *prism:spp: //p')
+[[ $spp == 1 ]] || fail "--spp 1 render's prism:spp is '$spp'"
+"$PRISM" render --help | grep -qE -- "--spp INT.*=16( |$)" && echo "ok: --help shows the default 16" ||
+  fail "render --help does not show --spp's default 16: $("$PRISM" render --help | grep -- --spp)"
+
 echo "$failures failed"
 [[ $failures -eq 0 ]]
