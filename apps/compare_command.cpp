@@ -83,10 +83,10 @@ class Comparison {
   // `spp` the cap.
   RenderJob job_for(const IntegratorInfo& integrator, const SphereOptions& spheres, int spp,
                     std::optional<double> target_error = std::nullopt) const;
-  // Renders once untimed (so first-touch page faults and cold caches stay out), then again
-  // timed; the BVH is built before either and its build time returned in `bvh_seconds`.
-  RenderOutput render_timed(const RenderJob& job, int warm_up_spp,
-                            std::optional<double>* bvh_seconds);
+  // Renders the job timed, the BVH built before and its build time returned in
+  // `bvh_seconds`. The first render of each BVH is preceded by an untimed one of one sample
+  // per pixel, so that first-touch page faults and cold caches stay out of every row.
+  RenderOutput render_timed(const RenderJob& job, std::optional<double>* bvh_seconds);
   // Writes images/<stem>.exr (with `metadata`, or else as a copy of the file `copy_of`) and
   // its PNG preview, and points the row at the PNG.
   void save(const std::string& stem, const Image& image, const RenderMetadata* metadata,
@@ -101,6 +101,8 @@ class Comparison {
   Session& session_;
   const RenderJob& base_;
   double bvh_seconds_ = 0.0;  // of the render scene built last
+  bool warmed_up_ = false;    // that render scene has rendered once
+  int warm_ups_ = 0;
   int done_ = 0, total_ = 0;
   std::string current_;
   std::mutex draw_mutex_;
@@ -123,22 +125,27 @@ RenderJob Comparison::job_for(const IntegratorInfo& integrator, const SphereOpti
   return job;
 }
 
-RenderOutput Comparison::render_timed(const RenderJob& job, int warm_up_spp,
-                                      std::optional<double>* bvh_seconds) {
+RenderOutput Comparison::render_timed(const RenderJob& job, std::optional<double>* bvh_seconds) {
   double built = 0.0;
   session_.render_scene(job, &built);
-  if (built > 0.0) bvh_seconds_ = built;
+  if (built > 0.0) {
+    bvh_seconds_ = built;
+    warmed_up_ = false;
+  }
   *bvh_seconds = bvh_seconds_;
-  RenderJob warm_up = job;
-  warm_up.film.spp = warm_up_spp;
-  // Each of the two renders is half the item: the line moves within a long reference too.
+  if (!warmed_up_) {
+    RenderJob warm_up = job;
+    warm_up.film.spp = 1;
+    warm_up.film.target_error = 0.0f;
+    warm_up.film.time_limit_seconds = 0.0;
+    session_.render(warm_up, JobCallbacks{});
+    warmed_up_ = true;
+    ++warm_ups_;
+  }
   JobCallbacks callbacks;
-  double base = 0.0;
   callbacks.progress = [&](int done, int total) {
-    if (total > 0) draw(base + 0.5 * done / total);
+    if (total > 0) draw(static_cast<double>(done) / total);
   };
-  session_.render(warm_up, callbacks);
-  base = 0.5;
   return session_.render(job, callbacks);
 }
 
@@ -199,23 +206,26 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
   report.min_spp = o_.min_spp;
   report.plot_metric = o_.plot_metric;
   const size_t runs = o_.spp.size() + o_.target_errors.size();
-  total_ = static_cast<int>(integrators.size() * (modes.size() * runs + 1));
 
-  // References first: every other row is measured against one.
+  // References first: every other row is measured against one. By default one converged
+  // `path` render, the unbiased answer, so each row's error is its bias and its noise
+  // together; with --reference-integrator self, each integrator's own.
+  const bool own_references = o_.reference_integrator == "self";
+  std::vector<const IntegratorInfo*> reference_integrators = integrators;
+  if (!own_references) reference_integrators = {&parse_integrator_option(o_.reference_integrator,
+                                                                         "--reference-integrator")};
+  if (file_reference) reference_integrators.clear();
+  total_ = static_cast<int>(integrators.size() * modes.size() * runs +
+                            reference_integrators.size());
   std::map<std::string, Image> references;
   SphereOptions analytic;
-  for (const IntegratorInfo* integrator : integrators) {
+  for (const IntegratorInfo* integrator : reference_integrators) {
     const std::string name = integrator->name;
     CompareRow row;
     row.reference = true;
     row.integrator = name;
     row.spheres = to_string(analytic);
     starting(name + " reference");
-    if (file_reference) {
-      references[name] = file_reference->image;
-      finished();
-      continue;
-    }
     row.spp = o_.reference_spp;
     const std::string cache_dir = reference_cache_dir();
     const RenderJob job = job_for(*integrator, analytic, o_.reference_spp);
@@ -223,18 +233,18 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     const ReferenceKey key = reference_key(o_.scene.scene_path, job, session_.film(job), parameters,
                                            camera, camera_index);
     const std::string cache_path = cached_reference_path(cache_dir, key);
+    const std::string whose = own_references ? name : name + ", for every integrator";
     RenderResult result;
     if (std::optional<RecordedRender> cached = find_cached_reference(cache_dir, key)) {
       references[name] = std::move(cached->image);
       result.seconds = cached->seconds;
       result.rays = cached->rays;
       row.source = "cache";
-      report.reference_notes.push_back(name + ": analytic spheres, " +
+      report.reference_notes.push_back(whose + ": analytic spheres, " +
                                        std::to_string(o_.reference_spp) + " spp, from the cache " +
                                        cache_path);
     } else {
-      // One pass of one sample warms up as well as a whole reference would, at 1/spp the cost.
-      RenderOutput out = render_timed(job, 1, &row.bvh_seconds);
+      RenderOutput out = render_timed(job, &row.bvh_seconds);
       result = out.result;
       row.peak_rss_mib = peak_rss_mib();
       fs::create_directories(cache_dir);
@@ -243,7 +253,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
                 ExrPixelType::float32);
       references[name] = std::move(out.image);
       report.reference_notes.push_back(
-          name + ": analytic spheres, " + std::to_string(o_.reference_spp) + " spp, rendered in " +
+          whose + ": analytic spheres, " + std::to_string(o_.reference_spp) + " spp, rendered in " +
           format_error(result.seconds) + " s and cached as " + cache_path);
       const CacheSweep sweep = bound_reference_cache(
           cache_dir, static_cast<uint64_t>(o_.cache_limit_gib * double(uint64_t{1} << 30)),
@@ -259,6 +269,20 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     save(name + "-reference", references[name], nullptr, cache_path, base_.working_space, &row);
     report.rows.push_back(row);
     finished();
+  }
+  // The image a row of `integrator` is measured against.
+  const auto reference_for = [&](const std::string& integrator) -> const Image& {
+    if (file_reference) return file_reference->image;
+    return references.at(own_references ? integrator : reference_integrators[0]->name);
+  };
+  // One scale for every heat map, so that they compare: the (first) reference's mean.
+  {
+    const Image& first = reference_for(integrators[0]->name);
+    double sum = 0.0;
+    for (size_t i = 0; i < first.rgba.size(); i += 4)
+      sum += first.rgba[i] + first.rgba[i + 1] + first.rgba[i + 2];
+    const double mean = sum / (3.0 * std::max<size_t>(1, first.rgba.size() / 4));
+    report.heatmap_peak = mean > 0.0 && std::isfinite(mean) ? mean : 1.0;
   }
   if (file_reference) {
     CompareRow row;
@@ -293,13 +317,17 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
                                  (uniform ? "" : file_safe(sampling_label(row)) + "-") + spp_text;
         starting(row.integrator + ", " + row.spheres + ", " + sampling_label(row) + ", " +
                  std::to_string(row.spp) + " spp");
-        // The warm-up is the same render: an adaptive one decides its samples as it goes.
-        const RenderOutput out = render_timed(job, job.film.spp, &row.bvh_seconds);
+        const RenderOutput out = render_timed(job, &row.bvh_seconds);
         row.seconds = out.result.seconds;
         row.rays = out.result.rays;
         row.peak_rss_mib = peak_rss_mib();
-        row.error = compare_images(out.image, references.at(row.integrator)).overall;
+        const Image& reference = reference_for(row.integrator);
+        row.error = compare_images(out.image, reference).overall;
         save(name, out.image, &out.metadata, "", job.working_space, &row);
+        row.heatmap = "images/" + name + "-error.png";
+        write_display_png(
+            (fs::path(o_.report_dir) / row.heatmap).string(),
+            error_heatmap(difference_image(out.image, reference), float(report.heatmap_peak)));
         if (o_.verbose)
           std::fprintf(stderr, "\r\033[Kprism: compare: %s, %s, %s: %.4g s, RMSE %s, relMSE %s\n",
                        row.integrator.c_str(), row.spheres.c_str(), sampling_label(row).c_str(),
@@ -314,6 +342,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
   std::stable_sort(tests.begin(), tests.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& [order, row] : tests) report.rows.push_back(std::move(row));
+  report.warm_up_renders = warm_ups_;
   return report;
 }
 
@@ -365,6 +394,8 @@ int run(const CompareOptions& o) {
     for (const IntegratorInfo* info : integrators) taken = taken || takes_parameter(*info, name);
     if (!taken) throw UsageError("--" + name + ": none of the integrators compared takes it");
   }
+  if (o.reference_integrator != "self")
+    parse_integrator_option(o.reference_integrator, "--reference-integrator");
   check_report_dir(o.report_dir);
   // Read before the scene, so a wrong path costs nothing.
   std::optional<RecordedRender> file_reference;
@@ -429,11 +460,11 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
       "Render every integrator x sphere mode x spp, time each and measure its error against a "
       "reference; write a report directory");
   cmd->footer(
-      "Each combination is rendered twice, the second time timed, so that cold caches stay out "
-      "of the figures; BVH build time is reported apart. Without --reference, each "
-      "integrator's reference is the same integrator with analytic spheres at --reference-spp, "
-      "cached in $XDG_CACHE_HOME/prism/references (or ~/.cache/prism/references). See "
-      "docs/compare.md.");
+      "Each BVH's first render is preceded by an untimed one of 1 spp, so that cold caches "
+      "stay out of the figures; BVH build time is reported apart. Without --reference, every "
+      "row is measured against one path render with analytic spheres at --reference-spp "
+      "(--reference-integrator), cached in $XDG_CACHE_HOME/prism/references (or "
+      "~/.cache/prism/references). See docs/compare.md.");
   add_scene_options(cmd, &o->scene);
   cmd->add_option("-o,--output", o->report_dir,
                   "Report directory (created; files in it are replaced)")
@@ -466,6 +497,13 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
   CLI::Option* reference =
       cmd->add_option("--reference", o->reference_path,
                       "Reference image (.exr) for every integrator, of the render's size");
+  cmd->add_option("--reference-integrator", o->reference_integrator,
+                  "Without --reference: the integrator of the one rendered reference every row "
+                  "is measured against (path: the unbiased answer, so errors include each "
+                  "integrator's bias), or self: each integrator against its own converged render "
+                  "(noise alone)")
+      ->excludes(reference)
+      ->capture_default_str();
   cmd->add_option("--reference-spp", o->reference_spp,
                   "Samples per pixel of the rendered references (analytic spheres)")
       ->check(whole_number(1, 1 << 16))

@@ -23,7 +23,10 @@ struct CompareOptions {
   // each integrator and sphere mode, capped at the largest `spp`; empty: none.
   std::vector<double> target_errors;
   int min_spp = RenderSettings{}.min_spp;
-  std::string reference_path;  // empty: render (or find in the cache) one per integrator
+  std::string reference_path;  // empty: render (or find in the cache) a reference
+  // Whose render the reference is: an integrator's name (one reference for every row), or
+  // "self" (each integrator against its own).
+  std::string reference_integrator = "path";
   int reference_spp = 256;
   double cache_limit_gib = kDefaultCacheLimitGib;  // the reference cache's bound
   std::string report_dir;

@@ -26,6 +26,16 @@ struct CompareRow {
   std::string source = "rendered";     // references: "rendered", "cache" or "file"
   bool pareto = false;                 // on the time-versus-error Pareto front
   std::string image;                   // path of the PNG, relative to the report directory
+  std::string heatmap;  // test rows: the error heat map's PNG, relative as `image`
+};
+
+// The rows to set side by side, one per integrator (the first sphere mode's uniform and
+// adaptive rows): at equal time, each integrator's row whose time is nearest (in ratio) to
+// `target`, the longest time every integrator reached; at equal error, nearest to the
+// lowest error every integrator reached. Empty with fewer than two integrators.
+struct SideBySide {
+  double target = 0.0;
+  std::vector<size_t> rows;  // indices into CompareReport::rows, in integrator order
 };
 
 struct CompareReport {
@@ -38,7 +48,13 @@ struct CompareReport {
   std::string plot_metric;                   // "rmse" or "relmse"
   std::vector<std::string> reference_notes;  // one line per reference: where it came from
   std::vector<CompareRow> rows;
+  // The heat maps' scale: an absolute error of this much is white (the reference's mean).
+  double heatmap_peak = 0.0;
+  int warm_up_renders = 0;  // untimed 1-spp renders, one per BVH built
 };
+
+SideBySide equal_time(const CompareReport& report);
+SideBySide equal_error(const CompareReport& report);
 
 // "uniform", or "adaptive 0.05" with the target error.
 std::string sampling_label(const CompareRow& row);

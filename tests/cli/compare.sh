@@ -6,7 +6,7 @@ SCENE="$SRC/scenes/spheres.gltf"
 PY=/usr/bin/python3
 # The references are cached here, not in the user's ~/.cache.
 export XDG_CACHE_HOME="$TMP/cache"
-ARGS=(compare "$SCENE" --res 64x36 --spp 1,4 --integrators phong,whitted
+ARGS=(compare "$SCENE" --res 64x36 --spp 1,4 --integrators phong,whitted --reference-integrator self
   --spheres analytic,mesh:2 --reference-spp 16 --threads 2)
 
 "$PRISM" "${ARGS[@]}" -o "$TMP/report" >"$TMP/out1" 2>"$TMP/err1" || fail "compare exited $?"
@@ -141,7 +141,13 @@ p = P(); p.feed(open(sys.argv[1]).read())
 bad = []
 if p.imgs.count("plot.svg") != 1: bad.append("plot.svg shown %d times" % p.imgs.count("plot.svg"))
 images = [i for i in p.imgs if i != "plot.svg"]
-if len(images) != 10 or len(set(images)) != 10: bad.append("%d images: %s" % (len(images), images))
+# Ten renders, then equal time and equal error: per integrator an image above its heat map.
+shown, sides = images[:10], images[10:]
+if len(shown) != 10 or len(set(shown)) != 10: bad.append("%d images: %s" % (len(shown), shown))
+if len(sides) != 8 or any(sides[i + 1] != sides[i][:-4] + "-error.png" for i in range(0, len(sides), 2)):
+    bad.append("side-by-side images: %s" % sides)
+if sorted(s.split("/")[1].split("-")[0] for s in sides[0:4:2]) != ["phong", "whitted"]:
+    bad.append("equal time does not show both integrators: %s" % sides[0:4])
 if images and images[0] != "images/phong-reference.png": bad.append("first image " + images[0])
 if p.rows != 11: bad.append("%d table rows, expected a header and 10" % p.rows)
 for b in bad: print("  " + b)

@@ -5,7 +5,7 @@ source "$(dirname "$0")/lib/common.bash" "$@"
 SCENE="$SRC/scenes/spheres.gltf"
 export XDG_CACHE_HOME="$TMP/cache"
 CACHE="$TMP/cache/prism/references"
-compare() { "$PRISM" compare "$SCENE" --res 32x24 --spp 1 --threads 2 -o "$TMP/report" "$@"; }
+compare() { "$PRISM" compare "$SCENE" --res 32x24 --spp 1 --threads 2 --reference-integrator self -o "$TMP/report" "$@"; }
 entries() { find "$CACHE" -name '*.exr' | wc -l; }
 
 compare --integrators phong,whitted --reference-spp 4 >"$TMP/out1" || fail "first compare exited $?"
