@@ -320,6 +320,32 @@ TEST(Region, TilesCoverItOnceOnThePacketGrid) {
   }
 }
 
+// Tiles are visited in a shuffled order so that any prefix of them, the tiles done when the
+// progress line extrapolates its ETA, is spread over the whole frame like the rest: rows
+// of cheap sky do not all come first.
+TEST(TileOrder, EveryPrefixIsSpreadOverTheFrame) {
+  RenderSettings s;
+  s.width = 640;
+  s.height = 480;
+  const std::vector<TileRect> tiles = make_tiles(s);
+  ASSERT_EQ(tiles.size(), 40u * 30u);
+  for (double share : {0.1, 0.2, 0.5}) {
+    const size_t n = static_cast<size_t>(share * static_cast<double>(tiles.size()));
+    double mean_y = 0.0;
+    int quarter[4] = {};
+    for (size_t i = 0; i < n; ++i) {
+      const double y = 0.5 * (tiles[i].y0 + tiles[i].y1);
+      mean_y += y / static_cast<double>(n);
+      ++quarter[static_cast<int>(4.0 * y / s.height)];
+    }
+    EXPECT_NEAR(mean_y, 240.0, 0.05 * 480.0) << share;
+    for (int q = 0; q < 4; ++q) {
+      EXPECT_GT(quarter[q], 0.15 * static_cast<double>(n)) << share << " quarter " << q;
+      EXPECT_LT(quarter[q], 0.35 * static_cast<double>(n)) << share << " quarter " << q;
+    }
+  }
+}
+
 // Every pixel of a region is the full frame's, bit for bit, whatever the tile size and thread
 // count; every pixel outside it is 0 with alpha 0.
 TEST(Region, PixelsAreTheFullFramesAndTheRestIsEmpty) {
