@@ -1,5 +1,6 @@
 #include "apps/command_line.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 
@@ -48,17 +49,36 @@ void add_scene_options(CLI::App* cmd, SceneOptions* o) {
                   "(R.V)^n, docs/materials.md)")
       ->capture_default_str();
   // One flag per integrator parameter, from the integrators' own tables.
+  // Integrators that share a parameter may differ in its range and default (whitted's
+  // max-depth is 0 to 64, default 5; path's 0 to 1024, default 16): each says its own.
   for (const ParameterInfo* p : all_integrator_parameters()) {
-    std::string takers;
+    // "whitted: 0 to 64, default 5; path: 0 to 1024, default 16", integrators that agree
+    // named together.
+    std::vector<std::pair<std::string, std::string>> specs;  // names, their range and default
     for (const IntegratorInfo* info : integrator_registry())
-      if (takes_parameter(*info, p->name))
-        takers += std::string(takers.empty() ? "" : ", ") + info->name;
-    char fallback[32];
-    std::snprintf(fallback, sizeof fallback, "%g", p->default_value);
+      for (const ParameterInfo& own : info->parameters) {
+        if (std::string(own.name) != p->name) continue;
+        char text[96];
+        if (own.max >= 1e30)
+          std::snprintf(text, sizeof text, ">= %g, default %g", own.min, own.default_value);
+        else
+          std::snprintf(text, sizeof text, "%g to %g, default %g", own.min, own.max,
+                        own.default_value);
+        auto same = std::find_if(specs.begin(), specs.end(),
+                                 [&](const auto& spec) { return spec.second == text; });
+        if (same != specs.end())
+          same->first += std::string(", ") + info->name;
+        else
+          specs.emplace_back(info->name, text);
+      }
+    std::string takers;
+    for (const auto& [names, spec] : specs)
+      takers += (takers.empty() ? "" : "; ") + names + ": " + spec;
     const std::string name = p->name;
     cmd->add_option_function<double>(
-        "--" + name, [o, name](double v) { o->integrator_parameters[name] = v; },
-        std::string(p->description) + " (" + takers + "; default " + fallback + ")");
+           "--" + name, [o, name](double v) { o->integrator_parameters[name] = v; },
+           std::string(p->description) + " (" + takers + ")")
+        ->type_name(p->type == ParameterType::integer ? "INT" : "FLOAT");
   }
   add_allow_external_paths_flag(cmd, &o->allow_external_paths);
   add_memory_limit_option(cmd, &o->memory_limit_gib);

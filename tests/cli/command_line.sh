@@ -65,5 +65,11 @@ expect 2 "^prism: error: --camera 7: .*spheres.gltf has no such camera; it has 1
 expect 2 "^prism: error: --scene 3: .*BoxTextured.gltf: scenes: no scene '3' \(the file has 1 scene: 0 \(unnamed\); give a name or an index 0\)$" -- render "$BOX" -o "$TMP/a.exr" --scene 3
 
 [[ -e "$TMP/a.exr" || -e "$TMP/c" ]] && fail "a refused command wrote its output"
+# A parameter two integrators share says each one's range and default.
+"$PRISM" render --help >"$TMP/help" 2>&1
+grep -qE -- "--max-depth INT .*\(whitted: 0 to 64, default 5; path: 0 to 1024, default 16\)" "$TMP/help" &&
+  echo "ok: --max-depth's help gives whitted's and path's ranges" ||
+  fail "--max-depth's help: $(grep -- --max-depth "$TMP/help")"
+
 echo "$failures failed"
 [[ $failures -eq 0 ]]
