@@ -450,7 +450,12 @@ int run(const InfoOptions& o) {
   print_lights(scene);
   print_cameras(scene);
   print_spheres(scene);
-  print_sphere_meshes(scene, request.sphere_detection);
+  // On request: the search welds every mesh's vertices, which on a big mesh costs several
+  // times its load and BVH build (docs/benchmarks.md).
+  if (o.find_sphere_meshes)
+    print_sphere_meshes(scene, request.sphere_detection);
+  else
+    std::printf("sphere-shaped meshes: not looked for (--detect-spheres lists them)\n");
   std::printf("extensions: used %s; required %s\n", extension_list(root, "extensionsUsed").c_str(),
               extension_list(root, "extensionsRequired").c_str());
   // The feature set as `prism render` derives it: with the default camera and light that a
@@ -489,6 +494,9 @@ CLI::App* add_info_command(CLI::App& app, InfoOptions* o) {
       ->capture_default_str();
   add_allow_external_paths_flag(cmd, &o->allow_external_paths);
   add_memory_limit_option(cmd, &o->memory_limit_gib);
+  cmd->add_flag("--detect-spheres", o->find_sphere_meshes,
+                "Also list the meshes whose vertices lie on a sphere, which render "
+                "--detect-spheres would replace (takes longer than loading on big meshes)");
   add_sphere_detection_options(cmd, &o->sphere_detection, false);
   add_scene_select_option(cmd, &o->scene);
   cmd->add_flag("--timing", o->timing,

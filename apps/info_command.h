@@ -16,6 +16,7 @@ struct InfoOptions {
   std::string spheres = "analytic";  // the sphere mode the feature set assumes
   bool allow_external_paths = false;
   SphereDetectionFlags sphere_detection;  // --sphere-tolerance for the sphere-shaped meshes
+  bool find_sphere_meshes = false;        // --detect-spheres: list them (a weld of every mesh)
   std::string scene;                      // glTF scene name or index, empty = the file's default
   bool timing = false;                    // also time loading and the BVH build
   bool views = false;
