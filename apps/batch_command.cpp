@@ -65,10 +65,15 @@ fs::path common_folder(const std::vector<BatchJob>& jobs, const fs::path& fallba
 
 void write_report(const fs::path& path, const json& report) {
   const fs::path temporary = path.string() + ".tmp";
+  // Beside the outputs, whose folder a batch whose every job failed may not have made.
+  std::error_code made;
+  if (path.has_parent_path()) fs::create_directories(path.parent_path(), made);
   {
     std::ofstream out(temporary);
     out << report.dump(2) << "\n";
-    if (!out) throw std::runtime_error(temporary.string() + ": cannot be written");
+    if (!out)
+      throw std::runtime_error(path.string() + ": the report cannot be written there (" +
+                               temporary.string() + ")");
   }
   std::error_code error;
   fs::rename(temporary, path, error);
