@@ -261,15 +261,26 @@ TEST(WhittedIntegrator, GlassSphereConservesEnergy) {
   EXPECT_LT(previous_loss, 1e-3);
 }
 
-TEST(Determinism, ImageIsBitIdenticalWithOneAndTwoThreads) {
+// A glossy disc over a floor, seen in an image whose sides are no multiple of a tile or of a
+// packet block: for tests that compare renders pixel by pixel.
+SceneDescription disc_over_floor() {
   SceneDescription scene = disc_scene();
   scene.materials[0].roughness = 0.3f;
   scene.meshes.push_back(quad_mesh(5.0f, -1.0f, 0));
   scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  return scene;
+}
+testing::TestSettings odd_sized_settings() {
   testing::TestSettings settings;
   settings.width = 97;
   settings.height = 61;
   settings.spp = 4;
+  return settings;
+}
+
+TEST(Determinism, ImageIsBitIdenticalWithOneAndTwoThreads) {
+  const SceneDescription scene = disc_over_floor();
+  testing::TestSettings settings = odd_sized_settings();
   settings.tile_size = 8;
   const auto whitted = make_integrator("whitted");
   settings.threads = 1;
@@ -349,14 +360,8 @@ TEST(TileOrder, EveryPrefixIsSpreadOverTheFrame) {
 // Every pixel of a region is the full frame's, bit for bit, whatever the tile size and thread
 // count; every pixel outside it is 0 with alpha 0.
 TEST(Region, PixelsAreTheFullFramesAndTheRestIsEmpty) {
-  SceneDescription scene = disc_scene();
-  scene.materials[0].roughness = 0.3f;
-  scene.meshes.push_back(quad_mesh(5.0f, -1.0f, 0));
-  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
-  testing::TestSettings settings;
-  settings.width = 97;
-  settings.height = 61;
-  settings.spp = 4;
+  const SceneDescription scene = disc_over_floor();
+  testing::TestSettings settings = odd_sized_settings();
   const auto whitted = make_integrator("whitted");
   const auto full = render_scene(scene, *whitted, settings);
   settings.region = TileRect{13, 6, 59, 41};
