@@ -212,11 +212,12 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
   // together; with --reference-integrator self, each integrator's own.
   const bool own_references = o_.reference_integrator == "self";
   std::vector<const IntegratorInfo*> reference_integrators = integrators;
-  if (!own_references) reference_integrators = {&parse_integrator_option(o_.reference_integrator,
-                                                                         "--reference-integrator")};
+  if (!own_references)
+    reference_integrators = {
+        &parse_integrator_option(o_.reference_integrator, "--reference-integrator")};
   if (file_reference) reference_integrators.clear();
-  total_ = static_cast<int>(integrators.size() * modes.size() * runs +
-                            reference_integrators.size());
+  total_ =
+      static_cast<int>(integrators.size() * modes.size() * runs + reference_integrators.size());
   std::map<std::string, Image> references;
   SphereOptions analytic;
   for (const IntegratorInfo* integrator : reference_integrators) {

@@ -120,8 +120,7 @@ const std::vector<Column>& columns() {
 
 // Names are read left to right; numbers line up on their last digit.
 bool left_aligned(const std::string& header) {
-  return header == "integrator" || header == "spheres" || header == "sampling" ||
-         header == "note";
+  return header == "integrator" || header == "spheres" || header == "sampling" || header == "note";
 }
 
 // Four significant digits are plenty to read a table; the files keep full precision.
@@ -220,7 +219,8 @@ SideBySide equal_error(const CompareReport& report) {
       report, [&](const CompareRow& r) { return plot_error(r, report.plot_metric); },
       [](const std::vector<std::vector<double>>& errors) {
         double e = 0.0;
-        for (const auto& each : errors) e = std::max(e, *std::min_element(each.begin(), each.end()));
+        for (const auto& each : errors)
+          e = std::max(e, *std::min_element(each.begin(), each.end()));
         return e;
       });
 }
@@ -242,22 +242,21 @@ void write_results_json(const std::string& path, const CompareReport& report) {
       if (c.where & kFiles) r[c.key] = c.value(row, report);
     rows.push_back(r);
   }
-  const json doc = {{"scene", report.scene},
-                    {"width", report.width},
-                    {"height", report.height},
-                    {"camera", report.camera},
-                    {"working_space", report.working_space},
-                    {"max_depth", report.max_depth},
-                    {"adaptive_min_spp", report.min_spp},
-                    {"plot_metric", report.plot_metric},
-                    {"heatmap_peak", report.heatmap_peak},
-                    {"warm_up_renders", report.warm_up_renders},
-                    {"equal_time", {{"seconds", equal_time(report).target},
-                                    {"rows", equal_time(report).rows}}},
-                    {"equal_error", {{"error", equal_error(report).target},
-                                     {"rows", equal_error(report).rows}}},
-                    {"references", report.reference_notes},
-                    {"rows", rows}};
+  const json doc = {
+      {"scene", report.scene},
+      {"width", report.width},
+      {"height", report.height},
+      {"camera", report.camera},
+      {"working_space", report.working_space},
+      {"max_depth", report.max_depth},
+      {"adaptive_min_spp", report.min_spp},
+      {"plot_metric", report.plot_metric},
+      {"heatmap_peak", report.heatmap_peak},
+      {"warm_up_renders", report.warm_up_renders},
+      {"equal_time", {{"seconds", equal_time(report).target}, {"rows", equal_time(report).rows}}},
+      {"equal_error", {{"error", equal_error(report).target}, {"rows", equal_error(report).rows}}},
+      {"references", report.reference_notes},
+      {"rows", rows}};
   write_file(path, doc.dump(2) + "\n");
 }
 
