@@ -26,7 +26,7 @@ struct CompareRow {
   std::string source = "rendered";     // references: "rendered", "cache" or "file"
   bool pareto = false;                 // on the time-versus-error Pareto front
   std::string image;                   // path of the PNG, relative to the report directory
-  std::string heatmap;  // test rows: the error heat map's PNG, relative as `image`
+  std::string heatmap;                 // test rows: the error heat map's PNG, relative as `image`
 };
 
 // The rows to set side by side, one per integrator (the first sphere mode's uniform and
