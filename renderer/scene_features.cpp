@@ -269,6 +269,17 @@ std::string alpha_modes(const SceneFeatures& f) {
 
 SceneFeatures derive_scene_features(const SceneDescription& scene, const SphereOptions& spheres) {
   SceneFeatures f;
+  // A material's features once, however many primitives use it: finding its smallest
+  // roughness reads its whole metallic-roughness texture.
+  std::vector<bool> added(scene.materials.size() + 1, false);
+  const auto add_once = [&](int material) {
+    const size_t slot = material >= 0 && static_cast<size_t>(material) < scene.materials.size()
+                            ? static_cast<size_t>(material)
+                            : scene.materials.size();  // every default-material index
+    if (added[slot]) return;
+    added[slot] = true;
+    add_material(scene, material, &f);
+  };
   for (const MeshInstance& instance : scene.instances) {
     if (instance.mesh < 0 || static_cast<size_t>(instance.mesh) >= scene.meshes.size()) continue;
     const Mesh& mesh = scene.meshes[static_cast<size_t>(instance.mesh)];
@@ -278,7 +289,7 @@ SceneFeatures derive_scene_features(const SceneDescription& scene, const SphereO
     ++f.objects;
     for (const Primitive& p : mesh.primitives)
       if (p.indices.size() >= 3) {
-        add_material(scene, p.material, &f);
+        add_once(p.material);
         const MaterialDescription* m = material_at(scene, p.material);
         if (m && m->alpha_mode == AlphaMode::mask) f.alpha_mask = true;
         if (m && m->alpha_mode == AlphaMode::blend) f.alpha_blend = true;
@@ -300,7 +311,7 @@ SceneFeatures derive_scene_features(const SceneDescription& scene, const SphereO
         break;
     }
   }
-  for (const Sphere& s : scene.spheres) add_material(scene, s.material, &f);
+  for (const Sphere& s : scene.spheres) add_once(s.material);
 
   for (const Light& light : scene.lights) {
     switch (light.type) {

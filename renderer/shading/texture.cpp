@@ -154,22 +154,25 @@ std::shared_ptr<const Texture::Pyramid> Texture::build_pyramid(const TextureImag
     const int width = std::max(1, fine.width / 2), height = std::max(1, fine.height / 2);
     const std::vector<BoxTap> tx = box_taps(fine.width, width);
     const std::vector<BoxTap> ty = box_taps(fine.height, height);
-    std::vector<V4f> rows(static_cast<size_t>(width) * fine.height);
-    for (int y = 0; y < fine.height; ++y)
-      for (int x = 0; x < width; ++x) {
-        V4f sum(0.0f);
-        const BoxTap& tap = tx[static_cast<size_t>(x)];
-        for (size_t k = 0; k < tap.weights.size(); ++k)
-          sum += fine.texel(tap.first + static_cast<int>(k), y) * tap.weights[k];
-        rows[static_cast<size_t>(y) * width + x] = sum;
-      }
+    // Across, then down, one fine row at a time: a whole level filtered across would be
+    // the largest allocation of a texture's load (16 bytes a texel). A fine row shared by
+    // two coarse rows (odd sides) is filtered again, to the same values.
+    std::vector<V4f> row(static_cast<size_t>(width));
     std::vector<V4f> coarse(static_cast<size_t>(width) * height, V4f(0.0f));
     for (int y = 0; y < height; ++y) {
-      const BoxTap& tap = ty[static_cast<size_t>(y)];
-      for (size_t k = 0; k < tap.weights.size(); ++k) {
-        const V4f* row = &rows[static_cast<size_t>(tap.first + static_cast<int>(k)) * width];
+      const BoxTap& tap_y = ty[static_cast<size_t>(y)];
+      for (size_t k = 0; k < tap_y.weights.size(); ++k) {
+        const int fine_y = tap_y.first + static_cast<int>(k);
+        for (int x = 0; x < width; ++x) {
+          V4f sum(0.0f);
+          const BoxTap& tap = tx[static_cast<size_t>(x)];
+          for (size_t j = 0; j < tap.weights.size(); ++j)
+            sum += fine.texel(tap.first + static_cast<int>(j), fine_y) * tap.weights[j];
+          row[static_cast<size_t>(x)] = sum;
+        }
         for (int x = 0; x < width; ++x)
-          coarse[static_cast<size_t>(y) * width + x] += row[x] * tap.weights[k];
+          coarse[static_cast<size_t>(y) * width + x] +=
+              row[static_cast<size_t>(x)] * tap_y.weights[k];
       }
     }
     levels.push_back(exact_level(width, height, coarse));

@@ -61,10 +61,11 @@ if first is None or first > 1.0:
     failures.append("no line within the first second (%s)" % first)
 labels = []
 for s in lines:
-    m = re.match(r"prism: compare (\d+)/6 \d+%, ETA [^:]*: (.*)$", s)
+    m = re.match(r"prism: compare (\d+)/5 \d+%, ETA [^:]*: (.*)$", s)
     if m and (not labels or labels[-1] != (m.group(1), m.group(2))):
         labels.append((m.group(1), m.group(2)))
-want = [("1", "phong reference"), ("2", "whitted reference"), ("3", "phong, analytic, uniform, 1 spp")]
+# One shared path reference, then the 2 x 2 combinations.
+want = [("1", "path reference"), ("2", "phong, analytic, uniform, 1 spp"), ("3", "phong, analytic, uniform, 4 spp")]
 if labels[:3] != want:
     failures.append("labels %r, expected %r first" % (labels[:4], want))
 if any(len(s) > 79 for s in lines):
