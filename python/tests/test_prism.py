@@ -110,6 +110,8 @@ def test_request_errors_carry_the_command_lines_message(session, tmp_path):
     ({"look_from": (1.0, 2.0)}, "look-from"),
     ({"look_at": (0.0, float("nan"), 0.0)}, "look-at"),
     ({"fov": 180.0}, "fov"),
+    ({"region": (10, 0, 5, 4)}, "region"),
+    ({"region": (0, 0, 100000, 4)}, "region"),
 ])
 def test_bad_options_name_their_field(session, kwargs, field):
     with pytest.raises(prism.RequestError) as caught:
@@ -188,3 +190,23 @@ def test_lighting_and_camera_options_are_the_command_lines(session, tmp_path):
     assert misses.any()
     assert np.all(hidden.image[misses][:, :3] == 0.0)
     assert np.all(render.image[misses][:, :3] > 0.0)
+
+
+def test_a_region_is_the_command_lines_region(session, tmp_path):
+    render = session.render(integrator="whitted", spp=4, resolution=(64, 48), region=(9, 5, 41, 30))
+    whole = session.render(integrator="whitted", spp=4, resolution=(64, 48))
+    inside = render.image[5:30, 9:41]
+    assert np.array_equal(inside, whole.image[5:30, 9:41])
+    assert inside[..., 3].max() > 0.0
+    outside = render.image.copy()
+    outside[5:30, 9:41] = 0.0
+    assert not outside.any()
+    exr = tmp_path / "region.exr"
+    render.write(str(exr))
+    cli = tmp_path / "cli.exr"
+    run = run_prism("render", SPHERES, "-o", str(cli), "--integrator", "whitted", "--spp", "4",
+                    "--res", "64x48", "--region", "9,5,41,30", "-q")
+    assert run.returncode == 0, run.stderr
+    # Both store the region alone, as their data window: the same pixels.
+    assert np.array_equal(prism.read_exr(str(exr)), prism.read_exr(str(cli)))
+    assert prism.read_exr(str(exr)).shape == (25, 32, 4)
