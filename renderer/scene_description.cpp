@@ -1,5 +1,7 @@
 #include "renderer/scene_description.h"
 
+#include <unordered_set>
+
 namespace prism {
 namespace {
 
@@ -16,10 +18,18 @@ uint64_t description_bytes(const SceneDescription& scene) {
     for (const Primitive& p : mesh.primitives)
       bytes += bytes_of(p.positions) + bytes_of(p.normals) + bytes_of(p.uv0) + bytes_of(p.uv1) +
                bytes_of(p.colours) + bytes_of(p.tangents) + bytes_of(p.indices);
-  for (const TextureImage& t : scene.textures)
-    bytes += t.shared_codes    ? bytes_of(*t.shared_codes)
-             : t.shared_texels ? bytes_of(*t.shared_texels)
-                               : bytes_of(t.texels);
+  // Textures that read one image (a sampler or an encoding apart) share its texels: each
+  // shared buffer is counted once.
+  std::unordered_set<const void*> counted;
+  for (const TextureImage& t : scene.textures) {
+    if (t.shared_codes) {
+      if (counted.insert(t.shared_codes.get()).second) bytes += bytes_of(*t.shared_codes);
+    } else if (t.shared_texels) {
+      if (counted.insert(t.shared_texels.get()).second) bytes += bytes_of(*t.shared_texels);
+    } else {
+      bytes += bytes_of(t.texels);
+    }
+  }
   bytes += bytes_of(scene.meshes) + bytes_of(scene.instances) + bytes_of(scene.spheres) +
            bytes_of(scene.materials) + bytes_of(scene.lights) + bytes_of(scene.cameras);
   return bytes;

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "integrators/registry.h"
-#include "scene_passes/scene_defaults.h"
 #include "renderer/scene_features.h"
 #include "scene_io/gltf_loader.h"
+#include "scene_passes/scene_defaults.h"
 #include "tests/test_scenes.h"
 
 #ifndef PRISM_SOURCE_DIR
@@ -280,10 +280,8 @@ void expect_shadow_rays_change_nothing(const SceneDescription& scene,
   settings.specialise = false;  // specialised, the shadow integrator would skip the rays
   GeometryOptions options;
   options.spheres = spheres;
-  const auto phong =
-      testing::render_scene(scene, "phong", settings, options);
-  const auto shadow =
-      testing::render_scene(scene, "shadow", settings, options);
+  const auto phong = testing::render_scene(scene, "phong", settings, options);
+  const auto shadow = testing::render_scene(scene, "shadow", settings, options);
   EXPECT_GT(shadow.result.rays[RayKind::shadow], 0u);
   ASSERT_EQ(phong.image.rgba.size(), shadow.image.rgba.size());
   for (size_t i = 0; i < phong.image.rgba.size(); ++i)
@@ -304,6 +302,27 @@ TEST(SceneFeatures, NoShadowsMeansShadowRaysChangeNothing) {
   floor.lights.push_back(directional_light(V3d(0.5, -1.0, -0.3)));
   add_scene_defaults(&floor);
   expect_shadow_rays_change_nothing(floor, SphereOptions());
+}
+
+// The memory a loaded scene holds, as the batch runner's scene cache budgets it: textures
+// that read one image (two samplers, or sRGB and linear uses) share its codes, counted once.
+TEST(DescriptionBytes, SharedTexelsAreCountedOnce) {
+  SceneDescription scene;
+  const auto codes = std::make_shared<const std::vector<uint8_t>>(size_t{1} << 20, uint8_t{7});
+  TextureImage image;
+  image.width = 512;
+  image.height = 512;
+  image.channels = 4;
+  image.shared_codes = codes;
+  scene.textures.push_back(image);
+  const uint64_t one = description_bytes(scene);
+  EXPECT_GE(one, codes->capacity());
+  scene.textures.push_back(image);  // the same image through another sampler
+  EXPECT_EQ(description_bytes(scene), one) << "the second texture's codes were counted again";
+  TextureImage other = image;
+  other.shared_codes = std::make_shared<const std::vector<uint8_t>>(size_t{1} << 20, uint8_t{9});
+  scene.textures.push_back(other);
+  EXPECT_GE(description_bytes(scene), one + other.shared_codes->capacity());
 }
 
 }  // namespace
