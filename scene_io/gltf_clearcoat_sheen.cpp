@@ -26,8 +26,6 @@ void read_clearcoat(MaterialExtensionReader& r, const tinygltf::Value& ext, cons
   d.clearcoat_roughness_texture =
       slot(r, ext, "clearcoatRoughnessTexture", TextureEncoding::linear_data, e,
            &d.clearcoat_roughness_mapping);
-  d.clearcoat_normal_texture = slot(r, ext, "clearcoatNormalTexture", TextureEncoding::linear_data,
-                                    e, &d.clearcoat_normal_mapping);
   if (ext.Has("clearcoatNormalTexture")) {
     const std::string n = e + ".clearcoatNormalTexture";
     const double scale = r.number(ext.Get("clearcoatNormalTexture"), "scale", 1.0, n);
@@ -36,6 +34,8 @@ void read_clearcoat(MaterialExtensionReader& r, const tinygltf::Value& ext, cons
       r.error(n + ".scale", "not finite as a float");
     d.clearcoat_normal_scale = static_cast<float>(scale);
   }
+  d.clearcoat_normal_texture = slot(r, ext, "clearcoatNormalTexture", TextureEncoding::linear_data,
+                                    e, &d.clearcoat_normal_mapping);
 }
 
 void read_sheen(MaterialExtensionReader& r, const tinygltf::Value& ext, const std::string& e,

@@ -57,13 +57,16 @@ inline float charlie_lambda(float cos_theta, float alpha) {
 // extension's first choice, with which the albedo scaling below conserves energy.
 inline float charlie_visibility(float cos_l, float cos_v, float alpha) {
   if (!(cos_l > 0.0f) || !(cos_v > 0.0f)) return 0.0f;
-  const float g = 1.0f + charlie_lambda(cos_v, alpha) + charlie_lambda(cos_l, alpha);
+  // Summed in an order symmetric in V and L, so that f(wo, wi) == f(wi, wo) to the bit.
+  const float g = 1.0f + (charlie_lambda(cos_v, alpha) + charlie_lambda(cos_l, alpha));
   return 1.0f / (g * 4.0f * cos_l * cos_v);
 }
 
 // What the sheen lobe D V (colour 1) reflects of a uniform radiance 1 towards cos_v, E(cos_v),
 // by which KHR_materials_sheen scales the layers under it. Bilinear over a 32 x 32 table in
-// (cos_v, roughness) integrated on first use; `alpha` is the sheen's roughness^2.
+// (sqrt(cos_v), roughness), whose nodes crowd where E turns fastest, at grazing views,
+// integrated on first use; `alpha` is the sheen's roughness^2. E exceeds 1 at grazing views
+// below roughness 0.3 (the fitted Lambda lets the lobe gain energy there; docs/materials.md).
 float sheen_albedo(float cos_v, float alpha);
 
 // The same integral by quadrature (midpoint in cos_l and phi, `strata` x 2 `strata`), as the
@@ -109,8 +112,13 @@ struct SurfaceLayers {
   float sheen_transmittance(float cos_o, float cos_i) const {
     const float s = sheen_max();
     if (!(s > 0.0f)) return 1.0f;
-    const float e = std::fmax(sheen_albedo(cos_o, sheen_alpha), sheen_albedo(cos_i, sheen_alpha));
-    return 1.0f - s * e;
+    return 1.0f - s * std::fmin(1.0f, sheen_peak_albedo(cos_o, cos_i));
+  }
+  // max(E(N.V), E(N.L)): where it exceeds 1 the sheen lobe is divided by it, so that it
+  // never reflects more than it receives (the extension's lobe elsewhere).
+  float sheen_peak_albedo(float cos_o, float cos_i) const {
+    return std::fmax(sheen_albedo(std::fmax(0.0f, cos_o), sheen_alpha),
+                     sheen_albedo(std::fmax(0.0f, cos_i), sheen_alpha));
   }
   // The same seen from wo alone, for the delta lobes and the albedo: the mirror direction
   // makes the two cosines equal.
@@ -128,9 +136,10 @@ struct SurfaceLayers {
       Imath::V3f h = wo + wi;
       const float h_len = h.length();
       h = h_len > 0.0f ? h / h_len : n;
-      const float dv =
-          charlie_d(dot(n, h), sheen_alpha) * charlie_visibility(cos_i, cos_o, sheen_alpha);
-      under = sheen_colour * dv + base * sheen_transmittance(cos_o, cos_i);
+      const float peak = sheen_peak_albedo(cos_o, cos_i);
+      const float dv = charlie_d(dot(n, h), sheen_alpha) *
+                       charlie_visibility(cos_i, cos_o, sheen_alpha) / std::fmax(1.0f, peak);
+      under = sheen_colour * dv + base * (1.0f - sheen_max() * std::fmin(1.0f, peak));
     }
     if (!(clearcoat > 0.0f)) return under;
     const float cos_co = dot(nc, wo), cos_ci = dot(nc, wi);
@@ -144,7 +153,9 @@ struct SurfaceLayers {
     if (!(cos_co > 0.0f) || !(cos_ci > 0.0f)) return 0.0f;
     const Imath::V3f h = normalize(wo + wi);
     const float alpha = coat_alpha();
-    return clearcoat * clearcoat_fresnel(std::fmax(0.0f, dot(wo, h))) * ggx_d(dot(nc, h), alpha) *
+    // V.H and L.H are equal but round differently: their mean is the same either way round.
+    const float cos_h = 0.5f * (dot(wo, h) + dot(wi, h));
+    return clearcoat * clearcoat_fresnel(std::fmax(0.0f, cos_h)) * ggx_d(dot(nc, h), alpha) *
            ggx_visibility(cos_ci, cos_co, alpha);
   }
 
@@ -182,8 +193,8 @@ struct SurfaceLayers {
   Imath::V3f albedo(const Imath::V3f& wo, const Imath::V3f& n, const Imath::V3f& nc,
                     const Imath::V3f& base, bool with_coat) const {
     const float cos_o = std::clamp(dot(n, wo), 0.0f, 1.0f);
-    const Imath::V3f under =
-        sheen_colour * sheen_albedo(cos_o, sheen_alpha) + base * sheen_transmittance(cos_o, cos_o);
+    const Imath::V3f under = sheen_colour * std::fmin(1.0f, sheen_albedo(cos_o, sheen_alpha)) +
+                             base * sheen_transmittance(cos_o, cos_o);
     const float cos_co = std::fmax(0.0f, dot(nc, wo));
     const bool coat = with_coat || !clearcoat_mirror;
     return under * coat_transmittance(cos_co, cos_co) +
@@ -200,7 +211,8 @@ struct SurfaceLayers {
     const float cos_co = std::fmax(0.0f, dot(nc, wo));
     const float through_coat = coat_transmittance(cos_co, cos_co);
     const float coat = clearcoat_mirror ? 0.0f : coat_albedo(wo, nc);
-    const float sheen = through_coat * sheen_max() * sheen_albedo(cos_o, sheen_alpha);
+    const float sheen =
+        through_coat * sheen_max() * std::fmin(1.0f, sheen_albedo(cos_o, sheen_alpha));
     const float rest = through_coat * sheen_transmittance(cos_o, cos_o) * std::fmax(0.0f, base);
     const float total = coat + sheen + rest;
     if (!(total > 0.0f)) return {};

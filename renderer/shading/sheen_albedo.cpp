@@ -20,8 +20,9 @@ const SheenTable& sheen_table() {
     for (int j = 0; j < kRoughnessSteps; ++j) {
       const float roughness = float(j) / float(kRoughnessSteps - 1);
       for (int i = 0; i < kCosSteps; ++i) {
-        // cos_v = 0 is the limit of grazing views; the integral is continuous there.
-        const float cos_v = std::max(1e-3f, float(i) / float(kCosSteps - 1));
+        // Nodes at cos_v = x^2; cos_v = 0 is the limit of grazing views.
+        const float x = float(i) / float(kCosSteps - 1);
+        const float cos_v = std::max(1e-4f, x * x);
         t[j][i] = integrate_sheen_albedo(cos_v, roughness * roughness, kTableStrata);
       }
     }
@@ -62,7 +63,7 @@ float integrate_sheen_albedo(float cos_v, float alpha, int strata) {
 
 float sheen_albedo(float cos_v, float alpha) {
   const SheenTable& t = sheen_table();
-  const float x = std::clamp(cos_v, 0.0f, 1.0f) * (kCosSteps - 1);
+  const float x = std::sqrt(std::clamp(cos_v, 0.0f, 1.0f)) * (kCosSteps - 1);
   const float y = std::clamp(std::sqrt(std::max(alpha, 0.0f)), 0.0f, 1.0f) * (kRoughnessSteps - 1);
   const int i = std::min(int(x), kCosSteps - 2), j = std::min(int(y), kRoughnessSteps - 2);
   const float fx = x - i, fy = y - j;
