@@ -119,6 +119,18 @@ struct MaterialDescription {
   float ior = 1.5f;                       // KHR_materials_ior
   float specular = 1.0f;                  // KHR_materials_specular: specularFactor
   C3f specular_colour{1.0f, 1.0f, 1.0f};  // KHR_materials_specular: specularColorFactor
+  // KHR_materials_clearcoat: weight (x texture R), roughness (x texture G) and the coat's own
+  // normal map (x, y times clearcoat_normal_scale); the textures linear data.
+  float clearcoat = 0.0f;
+  float clearcoat_roughness = 0.0f;
+  int clearcoat_texture = -1, clearcoat_roughness_texture = -1, clearcoat_normal_texture = -1;
+  float clearcoat_normal_scale = 1.0f;
+  TextureMapping clearcoat_mapping, clearcoat_roughness_mapping, clearcoat_normal_mapping;
+  // KHR_materials_sheen: colour (x texture RGB, sRGB) and roughness (x texture A, linear).
+  C3f sheen_colour{0.0f, 0.0f, 0.0f};
+  float sheen_roughness = 0.0f;
+  int sheen_colour_texture = -1, sheen_roughness_texture = -1;
+  TextureMapping sheen_colour_mapping, sheen_roughness_mapping;
   // false (glTF's default): camera rays do not see the back face (docs/materials.md).
   bool double_sided = false;
   // KHR_materials_unlit: the surface shows its base colour as emitted radiance and scatters

@@ -79,6 +79,10 @@ void add_material(const SceneDescription& scene, int index, SceneFeatures* f) {
   if (mr_texture) f->textures = f->textures | TexturedSlots::metallic_roughness;
   if (texture_at(scene, m.emissive_texture)) f->textures = f->textures | TexturedSlots::emissive;
   if (smallest_roughness(scene, m) <= kMirrorRoughness) f->mirror = true;
+  // A smooth clearcoat is a mirror for whitted too; its roughness texture may reach 0.
+  if (m.clearcoat > 0.0f && (texture_at(scene, m.clearcoat_roughness_texture) ||
+                             m.clearcoat_roughness <= kMirrorRoughness))
+    f->mirror = true;
   if (refracts(scene, m)) f->transmission = true;
   // The emissive texture only scales the factor, so a zero factor never emits.
   if (m.emissive.x > 0.0f || m.emissive.y > 0.0f || m.emissive.z > 0.0f) f->emission = true;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "scene_io/gltf_clearcoat_sheen.h"
 #include "scene_io/gltf_error.h"
 #include "scene_io/gltf_limits.h"
 #include "scene_io/gltf_specular_glossiness.h"
@@ -101,6 +102,8 @@ constexpr ExtensionHandler kExtensions[] = {
     {"KHR_materials_ior", true, ior, "materials"},
     {"KHR_materials_specular", true, specular, "materials"},
     {"KHR_materials_unlit", true, unlit, "materials"},
+    {"KHR_materials_sheen", true, read_sheen, "materials"},
+    {"KHR_materials_clearcoat", true, read_clearcoat, "materials"},
     {"KHR_lights_punctual", true, nullptr, "the document (lights) and nodes (placement)"},
     {"PRISM_sphere", true, nullptr, "nodes (docs/spheres.md)"},
     {"KHR_draco_mesh_compression", true, nullptr, "primitives (gltf_draco.h)"},

@@ -240,6 +240,21 @@ void check_material(const Checker& c, const json& m, const std::string& p) {
       c.texture_info(*t, "specularTexture", ep + ".KHR_materials_specular");
       c.texture_info(*t, "specularColorTexture", ep + ".KHR_materials_specular");
     }
+    if (auto t = ext->find("KHR_materials_clearcoat"); t != ext->end()) {
+      const std::string cp = ep + ".KHR_materials_clearcoat";
+      c.number(*t, "clearcoatFactor", cp);
+      c.number(*t, "clearcoatRoughnessFactor", cp);
+      for (const char* slot :
+           {"clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"})
+        c.texture_info(*t, slot, cp);
+    }
+    if (auto t = ext->find("KHR_materials_sheen"); t != ext->end()) {
+      const std::string sp = ep + ".KHR_materials_sheen";
+      c.number_array(*t, "sheenColorFactor", sp, 3);
+      c.number(*t, "sheenRoughnessFactor", sp);
+      c.texture_info(*t, "sheenColorTexture", sp);
+      c.texture_info(*t, "sheenRoughnessTexture", sp);
+    }
     if (auto t = ext->find("KHR_materials_emissive_strength"); t != ext->end()) {
       c.number(*t, "emissiveStrength", ep + ".KHR_materials_emissive_strength");
     }

@@ -21,6 +21,8 @@ float unit_number(const tinygltf::Value& v, const std::string& element, const st
   return static_cast<float>(x);
 }
 
+}  // namespace
+
 tinygltf::TextureInfo texture_info(const tinygltf::Value& ext, const char* key,
                                    const std::string& element, const std::string& file) {
   tinygltf::TextureInfo info;
@@ -44,6 +46,8 @@ tinygltf::TextureInfo texture_info(const tinygltf::Value& ext, const char* key,
   }
   return info;
 }
+
+namespace {
 
 // sqrt(0.299 r² + 0.587 g² + 0.114 b²): the brightness weights of Khronos' converter.
 float perceived_brightness(const C3f& c) {

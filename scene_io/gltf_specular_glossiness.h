@@ -20,6 +20,11 @@ struct SpecularGlossiness {
   tinygltf::TextureInfo specular_glossiness_texture;  // index -1 when absent
 };
 
+// The textureInfo `key` of an extension object (index -1 when absent), its index and texCoord
+// checked; LoadError naming `element`.`key` otherwise.
+tinygltf::TextureInfo texture_info(const tinygltf::Value& ext, const char* key,
+                                   const std::string& element, const std::string& file);
+
 // Reads the extension object; `element` names it in errors ("materials[0].extensions...").
 SpecularGlossiness read_specular_glossiness(const tinygltf::Value& ext, const std::string& element,
                                             const std::string& file);

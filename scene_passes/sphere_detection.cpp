@@ -108,7 +108,10 @@ class Welder {
 
 bool has_texture(const MaterialDescription& m) {
   return m.base_colour_texture >= 0 || m.metallic_roughness_texture >= 0 ||
-         m.emissive_texture >= 0 || m.normal_texture >= 0 || m.occlusion_texture >= 0;
+         m.emissive_texture >= 0 || m.normal_texture >= 0 || m.occlusion_texture >= 0 ||
+         m.clearcoat_texture >= 0 || m.clearcoat_roughness_texture >= 0 ||
+         m.clearcoat_normal_texture >= 0 || m.sheen_colour_texture >= 0 ||
+         m.sheen_roughness_texture >= 0;
 }
 
 WeldedMesh weld(const SceneDescription& scene, const Mesh& mesh) {

@@ -432,25 +432,30 @@ TEST(GltfLoaderHandMade, PunctualLights) {
 
 TEST(GltfLoaderHandMade, MaterialExtensions) {
   Builder b;
-  b.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior",
-                             "KHR_materials_emissive_strength", "KHR_materials_sheen"};
+  b.doc["extensionsUsed"] = {"KHR_materials_transmission",      "KHR_materials_ior",
+                             "KHR_materials_emissive_strength", "KHR_materials_iridescence",
+                             "KHR_materials_clearcoat",         "KHR_materials_sheen"};
   b.doc["extensionsRequired"] = {"KHR_materials_transmission"};
-  b.doc["materials"] =
-      json::array({{{"name", "glass"},
-                    {"doubleSided", true},
-                    {"pbrMetallicRoughness",
-                     {{"baseColorFactor", {0.9, 0.8, 0.7, 0.5}},
-                      {"metallicFactor", 0.25},
-                      {"roughnessFactor", 0.125}}},
-                    {"emissiveFactor", {0.5, 0.25, 1}},
-                    {"extensions",
-                     {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
-                      {"KHR_materials_ior", {{"ior", 1.33}}},
-                      {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
-                      {"KHR_materials_specular",
-                       {{"specularFactor", 0.5}, {"specularColorFactor", {2.0, 1.0, 0.0}}}}}}},
-                   json::object(),
-                   {{"extensions", {{"KHR_materials_unlit", json::object()}}}}});
+  b.doc["materials"] = json::array(
+      {{{"name", "glass"},
+        {"doubleSided", true},
+        {"pbrMetallicRoughness",
+         {{"baseColorFactor", {0.9, 0.8, 0.7, 0.5}},
+          {"metallicFactor", 0.25},
+          {"roughnessFactor", 0.125}}},
+        {"emissiveFactor", {0.5, 0.25, 1}},
+        {"extensions",
+         {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
+          {"KHR_materials_ior", {{"ior", 1.33}}},
+          {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
+          {"KHR_materials_specular",
+           {{"specularFactor", 0.5}, {"specularColorFactor", {2.0, 1.0, 0.0}}}},
+          {"KHR_materials_clearcoat",
+           {{"clearcoatFactor", 0.75}, {"clearcoatRoughnessFactor", 0.25}}},
+          {"KHR_materials_sheen",
+           {{"sheenColorFactor", {0.5, 0.25, 1.0}}, {"sheenRoughnessFactor", 0.625}}}}}},
+       json::object(),
+       {{"extensions", {{"KHR_materials_unlit", json::object()}}}}});
   b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}}},
                            {"indices",
                             b.accessor(b.view(std::vector<uint16_t>{0, 1, 2}), 5123, 3, "SCALAR")},
@@ -472,6 +477,14 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
   EXPECT_FLOAT_EQ(m.specular, 0.5f);
   EXPECT_EQ(m.specular_colour, C3f(2.0f, 1.0f, 0.0f));  // above 1 is allowed by the extension
+  EXPECT_FLOAT_EQ(m.clearcoat, 0.75f);
+  EXPECT_FLOAT_EQ(m.clearcoat_roughness, 0.25f);
+  EXPECT_EQ(m.clearcoat_texture, -1);
+  EXPECT_EQ(m.clearcoat_normal_texture, -1);
+  EXPECT_EQ(m.sheen_colour, C3f(0.5f, 0.25f, 1.0f));
+  EXPECT_FLOAT_EQ(m.sheen_roughness, 0.625f);
+  EXPECT_EQ(m.sheen_colour_texture, -1);
+  EXPECT_EQ(m.sheen_roughness_texture, -1);
   // glTF's defaults.
   const MaterialDescription& d = s.materials[1];
   EXPECT_EQ(d.name, "materials[1]");
@@ -483,8 +496,14 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_FALSE(d.double_sided);
   EXPECT_FLOAT_EQ(d.specular, 1.0f);
   EXPECT_EQ(d.specular_colour, C3f(1.0f, 1.0f, 1.0f));
+  EXPECT_FLOAT_EQ(d.clearcoat, 0.0f);
+  EXPECT_FLOAT_EQ(d.clearcoat_roughness, 0.0f);
+  EXPECT_EQ(d.sheen_colour, C3f(0.0f, 0.0f, 0.0f));
+  EXPECT_FLOAT_EQ(d.sheen_roughness, 0.0f);
   EXPECT_EQ(s.meshes.at(0).primitives.at(0).material, 0);
-  EXPECT_TRUE(has_warning(s, "extensionsUsed: extension \"KHR_materials_sheen\""));
+  EXPECT_TRUE(has_warning(s, "extensionsUsed: extension \"KHR_materials_iridescence\""));
+  EXPECT_FALSE(has_warning(s, "extensionsUsed: extension \"KHR_materials_sheen\""));
+  EXPECT_FALSE(has_warning(s, "extensionsUsed: extension \"KHR_materials_clearcoat\""));
 }
 
 TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
@@ -502,7 +521,15 @@ TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
   b.doc["materials"] = json::array(
       {{{"pbrMetallicRoughness",
          {{"baseColorTexture", {{"index", 0}}}, {"metallicRoughnessTexture", {{"index", 0}}}}},
-        {"emissiveTexture", {{"index", 0}}}}});
+        {"emissiveTexture", {{"index", 0}}},
+        {"extensions",
+         {{"KHR_materials_clearcoat",
+           {{"clearcoatFactor", 1},
+            {"clearcoatTexture", {{"index", 0}}},
+            {"clearcoatNormalTexture", {{"index", 0}, {"scale", 0.5}}}}},
+          {"KHR_materials_sheen",
+           {{"sheenColorTexture", {{"index", 0}}},
+            {"sheenRoughnessTexture", {{"index", 0}, {"texCoord", 1}}}}}}}}});
   const int uv = b.accessor(b.view(std::vector<uint16_t>{0, 0, 65535, 0, 65535, 65535, 0, 65535}),
                             5123, 4, "VEC2", true);
   b.node({{"mesh", b.mesh({{"attributes", {{"POSITION", b.quad_positions()}, {"TEXCOORD_0", uv}}},
@@ -517,6 +544,13 @@ TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
   EXPECT_EQ(s.textures.at(std::size_t(m.metallic_roughness_texture)).encoding,
             TextureEncoding::linear_data);
   EXPECT_EQ(s.textures[0].shared_codes, s.textures[1].shared_codes);
+  // The layers' colour is sRGB, their weights, roughnesses and normals data.
+  EXPECT_EQ(m.sheen_colour_texture, m.base_colour_texture);
+  EXPECT_EQ(m.sheen_roughness_texture, m.metallic_roughness_texture);
+  EXPECT_EQ(m.sheen_roughness_mapping.texcoord, 1);
+  EXPECT_EQ(m.clearcoat_texture, m.metallic_roughness_texture);
+  EXPECT_EQ(m.clearcoat_normal_texture, m.metallic_roughness_texture);
+  EXPECT_FLOAT_EQ(m.clearcoat_normal_scale, 0.5f);
   EXPECT_EQ(s.textures[0].wrap_s, TextureWrap::clamp_to_edge);
   EXPECT_EQ(s.textures[0].wrap_t, TextureWrap::repeat);
   const Primitive& p = s.meshes.at(0).primitives.at(0);
@@ -612,6 +646,52 @@ TEST(GltfLoaderHandMade, ValidationErrorsNameTheElement) {
                             {{"KHR_materials_specular", {{"specularColorFactor", {1, -1, 1}}}}}}}});
        },
        "materials[0].extensions.KHR_materials_specular.specularColorFactor[1]"},
+      {"clearcoat_range.gltf",
+       [](Builder& b) {
+         b.doc["materials"] = json::array(
+             {{{"extensions", {{"KHR_materials_clearcoat", {{"clearcoatFactor", 1.5}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_clearcoat.clearcoatFactor"},
+      {"clearcoat_roughness_type.gltf",
+       [](Builder& b) {
+         b.doc["materials"] = json::array(
+             {{{"extensions",
+                {{"KHR_materials_clearcoat", {{"clearcoatRoughnessFactor", "smooth"}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_clearcoat.clearcoatRoughnessFactor"},
+      {"clearcoat_texture_index.gltf",
+       [](Builder& b) {
+         b.doc["materials"] = json::array(
+             {{{"extensions",
+                {{"KHR_materials_clearcoat", {{"clearcoatTexture", {{"index", 7}}}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_clearcoat.clearcoatTexture.index"},
+      {"clearcoat_normal_scale.gltf",
+       [](Builder& b) {
+         b.doc["materials"] =
+             json::array({{{"extensions",
+                            {{"KHR_materials_clearcoat",
+                              {{"clearcoatNormalTexture", {{"index", 0}, {"scale", 1e300}}}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_clearcoat.clearcoatNormalTexture.scale"},
+      {"sheen_colour_range.gltf",
+       [](Builder& b) {
+         b.doc["materials"] = json::array(
+             {{{"extensions", {{"KHR_materials_sheen", {{"sheenColorFactor", {1, 2, 1}}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_sheen.sheenColorFactor[1]"},
+      {"sheen_colour_count.gltf",
+       [](Builder& b) {
+         b.doc["materials"] = json::array(
+             {{{"extensions", {{"KHR_materials_sheen", {{"sheenColorFactor", {1, 1}}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_sheen.sheenColorFactor"},
+      {"sheen_roughness_range.gltf",
+       [](Builder& b) {
+         b.doc["materials"] = json::array(
+             {{{"extensions", {{"KHR_materials_sheen", {{"sheenRoughnessFactor", -0.5}}}}}}});
+       },
+       "materials[0].extensions.KHR_materials_sheen.sheenRoughnessFactor"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

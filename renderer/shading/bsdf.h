@@ -26,6 +26,7 @@
 #include "renderer/enum_names.h"
 #include "renderer/math.h"
 #include "renderer/sampling/warp.h"
+#include "renderer/shading/clearcoat_sheen.h"
 #include "renderer/shading/ggx_albedo.h"
 #include "renderer/shading/microfacet.h"
 
@@ -69,6 +70,8 @@ struct BsdfLobes {
   float transmission = 0.0f;  // (1 - m) T: weight of the smooth dielectric part
   float ior = 1.5f;
   Imath::V3f transmission_tint{1.0f};  // colour of light passing in (the base colour)
+  // KHR_materials_sheen and _clearcoat over all of the above (clearcoat_sheen.h).
+  SurfaceLayers layers;
 };
 
 // Which lobes an albedo covers: an integrator that traces the delta lobes itself asks for
@@ -99,7 +102,7 @@ class Bsdf {
   Bsdf() = default;
   // `shading_normal` unit, on the geometric normal's side.
   Bsdf(const Imath::V3f& shading_normal, const BsdfLobes& lobes)
-      : normal_(shading_normal), lobes_(lobes) {}
+      : normal_(shading_normal), lobes_(lobes), layered_(lobes.layers.present()) {}
 
   const BsdfLobes& lobes() const { return lobes_; }
 
@@ -113,6 +116,7 @@ class Bsdf {
     Bsdf b = *this;
     b.lobes_.mirror = lobes_.model == BrdfModel::gltf && lobes_.alpha < kMinGgxAlpha;
     b.lobes_.mirror_only = b.lobes_.mirror;
+    b.lobes_.layers.clearcoat_mirror = false;  // the coat is its GGX lobe, as the base
     return b;
   }
   const Imath::V3f& shading_normal() const { return normal_; }
@@ -125,12 +129,27 @@ class Bsdf {
     if (has(lobes_.specular_f90) || has(lobes_.specular_f0)) f |= kGlossyReflection;
     if (lobes_.mirror && has(mirror_f90())) f |= kSpecularReflection;
     if (lobes_.transmission > 0.0f) f |= kSpecularReflection | kSpecularTransmission;
+    if (layered_) {
+      f |= kGlossyReflection;
+      if (lobes_.layers.clearcoat_mirror && lobes_.layers.clearcoat > 0.0f)
+        f |= kSpecularReflection;
+    }
     return f;
   }
 
   // f(wo, wi) of the non-delta lobes, for wi on wo's side of the shading normal `n`
   // (normal_towards(wo)); zero below it.
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
+    if (!layered_) return eval_base(wo, wi, n);
+    if (dot(n, wi) <= 0.0f) return Imath::V3f(0.0f);
+    return lobes_.layers.eval(wo, wi, n, coat_normal(n), eval_base(wo, wi, n));
+  }
+  Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi) const {
+    return eval(wo, wi, normal_towards(wo));
+  }
+
+  // The base's f alone, without the layers over it.
+  Imath::V3f eval_base(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
     const float cos_i = dot(n, wi);
     if (cos_i <= 0.0f) return Imath::V3f(0.0f);
     if (lobes_.model == BrdfModel::lecture) return eval_lecture(wo, wi, n);
@@ -150,9 +169,6 @@ class Bsdf {
         lobes_.specular_f0 + (lobes_.specular_f90 - lobes_.specular_f0) * weight;
     return diffuse + fresnel * dv;
   }
-  Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi) const {
-    return eval(wo, wi, normal_towards(wo));
-  }
 
   // The light the surface reflects towards wo under a uniform radiance of 1 from every
   // direction, for the lobes `scope` names: the lecture's ambient albedo k_a, made exact.
@@ -163,6 +179,14 @@ class Bsdf {
   // inside the transmissive part.
   Imath::V3f albedo(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
                     AlbedoScope scope) const {
+    if (!layered_) return base_albedo(wo, n, back_face, scope);
+    return lobes_.layers.albedo(wo, n, coat_normal(n), base_albedo(wo, n, back_face, scope),
+                                scope == AlbedoScope::all_lobes);
+  }
+  // The base's albedo alone; its delta lobes' weights as specular_lobes() gives them would
+  // carry the layers' transmittance, so they are taken unattenuated here.
+  Imath::V3f base_albedo(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
+                         AlbedoScope scope) const {
     const float cos_v = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
     GgxAlbedo layer{1.0f, schlick_weight(cos_v)};
     if (!lobes_.mirror) layer = ggx_albedo(cos_v, lobes_.alpha);
@@ -175,7 +199,7 @@ class Bsdf {
       total += mirror_f0() * layer.e + (mirror_f90() - mirror_f0()) * layer.e_schlick;
     if (with_delta && lobes_.transmission > 0.0f) {
       SpecularLobe lobes[2];
-      const int count = specular_lobes<false, true>(wo, n, back_face, lobes);
+      const int count = base_specular_lobes<false, true>(wo, n, back_face, lobes);
       for (int i = 0; i < count; ++i) total += lobes[i].weight();
     }
     return total;
@@ -190,6 +214,12 @@ class Bsdf {
     const LobeChoice c = choice(wo, n);
     float density = c.diffuse * cos_wi * kInvPi;
     if (c.glossy > 0.0f) density += c.glossy * glossy_pdf(wo, wi, n);
+    if (!layered_) return density;
+    const Imath::V3f nc = coat_normal(n);
+    const SurfaceLayers::Shares l = layer_shares(wo, n, nc);
+    density *= 1.0f - l.coat - l.sheen;
+    density += l.sheen * cos_wi * kInvPi;  // the sheen is sampled by the cosine
+    if (l.coat > 0.0f) density += l.coat * lobes_.layers.coat_pdf(wo, wi, nc);
     return density;
   }
 
@@ -198,6 +228,28 @@ class Bsdf {
   bool sample(const Imath::V3f& wo, float u_lobe, const Imath::V2f& u, bool back_face,
               BsdfSample* out) const {
     const Imath::V3f n = normal_towards(wo);
+    // The base's share of the choice, after the layers over it took theirs.
+    float base_share = 1.0f;
+    if (layered_) {
+      const Imath::V3f nc = coat_normal(n);
+      const SurfaceLayers::Shares l = layer_shares(wo, n, nc);
+      if (u_lobe < l.coat + l.sheen) {
+        Imath::V3f wi;
+        if (u_lobe < l.coat) {
+          if (!lobes_.layers.sample_coat(wo, nc, u, &wi)) return false;
+        } else {
+          wi = from_local(square_to_cosine_hemisphere(u), n);
+        }
+        if (dot(n, wi) <= 0.0f) return false;
+        out->wi = wi;
+        out->f = eval(wo, wi, n);
+        out->pdf = pdf(wo, wi);
+        out->lobe = kGlossyReflection;
+        return out->pdf > 0.0f;
+      }
+      base_share = 1.0f - l.coat - l.sheen;
+      u_lobe = std::fmin((u_lobe - l.coat - l.sheen) / base_share, 0x1.fffffep-1f);
+    }
     const LobeChoice c = choice(wo, n);
     if (u_lobe < c.specular) {
       SpecularLobe lobes[2];
@@ -210,7 +262,7 @@ class Bsdf {
       int k = 0;
       while (k + 1 < count && pick >= luminance(lobes[k].weight()))
         pick -= luminance(lobes[k++].weight());
-      const float p = c.specular * luminance(lobes[k].weight()) / total;
+      const float p = base_share * c.specular * luminance(lobes[k].weight()) / total;
       const float cos_wi = std::fabs(dot(n, lobes[k].wi));
       out->wi = lobes[k].wi;
       out->pdf = p;
@@ -251,6 +303,16 @@ class Bsdf {
   template <bool Mirror, bool Transmission>
   int specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
                      SpecularLobe* out) const {
+    const int count = base_specular_lobes<Mirror, Transmission>(wo, n, back_face, out);
+    if (!layered_) return count;
+    return layer_specular_lobes<Mirror>(wo, n, out, count);
+  }
+
+ private:
+  // The base's delta lobes, as specular_lobes() without the layers.
+  template <bool Mirror, bool Transmission>
+  int base_specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
+                          SpecularLobe* out) const {
     const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
     Imath::V3f reflect_weight(0.0f);
     int count = 0;
@@ -278,7 +340,36 @@ class Bsdf {
     return count;
   }
 
- private:
+  // The base's `count` delta lobes in `out` dimmed by what the layers over them let through
+  // (seen from wo: the mirror and the refracted ray leave the layers where they entered), and
+  // the coat's own mirror, where traced, joined to the reflection ray.
+  template <bool Mirror>
+  int layer_specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, SpecularLobe* out,
+                           int count) const {
+    const Imath::V3f nc = coat_normal(n);
+    const float through = lobes_.layers.view_transmittance(wo, n, nc);
+    for (int i = 0; i < count; ++i) out[i].colour *= through;
+    if constexpr (Mirror) {
+      if (lobes_.layers.clearcoat_mirror && lobes_.layers.clearcoat > 0.0f) {
+        const Imath::V3f coat(lobes_.layers.coat_albedo(wo, nc));
+        if (count > 0 && !out[count - 1].transmission)
+          out[count - 1].colour += coat / out[count - 1].scale;
+        else
+          out[count++] = {normalize(reflect(-wo, n)), coat, 1.0f, false};
+      }
+    }
+    return count;
+  }
+  Imath::V3f coat_normal(const Imath::V3f& n) const {
+    return lobes_.layers.coat_normal(n, normal_);
+  }
+  // The base's albedo estimate is the luminance of the estimates choice() splits on.
+  SurfaceLayers::Shares layer_shares(const Imath::V3f& wo, const Imath::V3f& n,
+                                     const Imath::V3f& nc) const {
+    return lobes_.layers.shares(wo, n, nc,
+                                luminance(base_albedo(wo, n, false, AlbedoScope::all_lobes)));
+  }
+
   // The lecture's lobes: Lambert under the layer's normal-incidence share, and normalised
   // Phong about the mirror direction R = reflect(-wi, n).
   Imath::V3f eval_lecture(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
@@ -311,7 +402,7 @@ class Bsdf {
   LobeChoice choice(const Imath::V3f& wo, const Imath::V3f& n) const {
     SpecularLobe lobes[2];
     float specular = 0.0f;
-    const int count = specular_lobes<true, true>(wo, n, false, lobes);
+    const int count = base_specular_lobes<true, true>(wo, n, false, lobes);
     for (int i = 0; i < count; ++i) specular += luminance(lobes[i].weight());
     const float diffuse = luminance(lobes_.diffuse_albedo);
     // A smooth layer's light is the mirror's; its GGX lobe is for punctual lights only.
@@ -351,6 +442,7 @@ class Bsdf {
 
   Imath::V3f normal_{0.0f, 0.0f, 1.0f};
   BsdfLobes lobes_;
+  bool layered_ = false;  // lobes_.layers.present(): a coat or a sheen to evaluate
 };
 
 }  // namespace prism

@@ -132,6 +132,38 @@ Rgb emission_of(const Material& material, SlotReader& read) {
   return hadamard(material.emissive, Rgb(t.x, t.y, t.z));
 }
 
+// The clearcoat (weight x R, roughness x G, its own normal map or the hit's unbent normal)
+// and the sheen (colour x RGB, roughness x A) at the hit.
+SurfaceLayers layers_of(const Material& material, const SurfaceHit& hit, SlotReader& read) {
+  SurfaceLayers l;
+  l.clearcoat = material.clearcoat;
+  if (l.clearcoat > 0.0f) {
+    float roughness = material.clearcoat_roughness;
+    if (material.clearcoat_texture.texture)
+      l.clearcoat *= read.sample(material.clearcoat_texture).x;
+    if (material.clearcoat_roughness_texture.texture)
+      roughness *= read.sample(material.clearcoat_roughness_texture).y;
+    l.clearcoat_alpha = roughness * roughness;
+    l.clearcoat_mirror = roughness <= kMirrorRoughness;
+    l.clearcoat_normal = material.clearcoat_normal_texture.texture
+                             ? bend_normal(hit, read.sample(material.clearcoat_normal_texture),
+                                           material.clearcoat_normal_scale)
+                             : hit.shading_normal;
+  }
+  l.sheen_colour = material.sheen_colour;
+  if (l.sheen_colour.x > 0.0f || l.sheen_colour.y > 0.0f || l.sheen_colour.z > 0.0f) {
+    float roughness = material.sheen_roughness;
+    if (material.sheen_colour_texture.texture) {
+      const V4f t = read.sample(material.sheen_colour_texture);
+      l.sheen_colour = hadamard(l.sheen_colour, Rgb(t.x, t.y, t.z));
+    }
+    if (material.sheen_roughness_texture.texture)
+      roughness *= read.sample(material.sheen_roughness_texture).w;
+    l.sheen_alpha = std::max(roughness * roughness, kMinSheenAlpha);
+  }
+  return l;
+}
+
 }  // namespace
 
 Rgb emitted_radiance(const Material& material, const SurfaceHit& hit) {
@@ -179,6 +211,23 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
   m.ior = d.ior >= 1.0f ? d.ior : 1.5f;
   m.specular = std::clamp(d.specular, 0.0f, 1.0f);
   m.specular_colour = to_rgb(colour.from_linear_rec709(d.specular_colour));
+  m.clearcoat = std::clamp(d.clearcoat, 0.0f, 1.0f);
+  m.clearcoat_roughness = std::clamp(d.clearcoat_roughness, 0.0f, 1.0f);
+  m.clearcoat_texture = make_slot(d.clearcoat_texture, d.clearcoat_mapping, textures);
+  m.clearcoat_roughness_texture =
+      make_slot(d.clearcoat_roughness_texture, d.clearcoat_roughness_mapping, textures);
+  m.clearcoat_normal_texture =
+      make_slot(d.clearcoat_normal_texture, d.clearcoat_normal_mapping, textures);
+  m.clearcoat_normal_scale =
+      std::isfinite(d.clearcoat_normal_scale) ? d.clearcoat_normal_scale : 1.0f;
+  // Clamped after the conversion: a saturated colour may leave [0, 1] in a wider space.
+  const Rgb sheen = to_rgb(colour.from_linear_rec709(d.sheen_colour));
+  m.sheen_colour = Rgb(std::clamp(sheen.x, 0.0f, 1.0f), std::clamp(sheen.y, 0.0f, 1.0f),
+                       std::clamp(sheen.z, 0.0f, 1.0f));
+  m.sheen_roughness = std::clamp(d.sheen_roughness, 0.0f, 1.0f);
+  m.sheen_colour_texture = make_slot(d.sheen_colour_texture, d.sheen_colour_mapping, textures);
+  m.sheen_roughness_texture =
+      make_slot(d.sheen_roughness_texture, d.sheen_roughness_mapping, textures);
   m.unlit = d.unlit;
   return m;
 }
@@ -244,6 +293,9 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
   lobes.mirror = roughness <= kMirrorRoughness;
   lobes.ior = material.ior;
   lobes.transmission_tint = base;
+  if (material.clearcoat > 0.0f || material.sheen_colour.x > 0.0f ||
+      material.sheen_colour.y > 0.0f || material.sheen_colour.z > 0.0f)
+    lobes.layers = layers_of(material, hit, read);
   SurfaceResponse r;
   r.bsdf = Bsdf(material.normal_texture.texture
                     ? bend_normal(hit, read.sample(material.normal_texture), material.normal_scale)

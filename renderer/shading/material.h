@@ -62,6 +62,14 @@ struct Material {
   float ior = 1.5f;
   float specular = 1.0f;  // KHR_materials_specular
   Rgb specular_colour{1.0f, 1.0f, 1.0f};
+  // KHR_materials_clearcoat and KHR_materials_sheen (docs/materials.md, "Clearcoat and sheen").
+  float clearcoat = 0.0f;
+  float clearcoat_roughness = 0.0f;
+  TextureSlot clearcoat_texture, clearcoat_roughness_texture, clearcoat_normal_texture;
+  float clearcoat_normal_scale = 1.0f;
+  Rgb sheen_colour{0.0f, 0.0f, 0.0f};
+  float sheen_roughness = 0.0f;
+  TextureSlot sheen_colour_texture, sheen_roughness_texture;
   BrdfModel brdf = BrdfModel::gltf;
   bool unlit = false;  // KHR_materials_unlit: emits its base colour, scatters nothing
 };
