@@ -28,6 +28,7 @@
 #include "renderer/sampling/warp.h"
 #include "renderer/shading/ggx_albedo.h"
 #include "renderer/shading/microfacet.h"
+#include "renderer/shading/rough_dielectric.h"
 
 namespace prism {
 
@@ -37,6 +38,7 @@ enum BsdfLobe : uint8_t {
   kGlossyReflection = 1u << 1,
   kSpecularReflection = 1u << 2,    // a delta lobe: the mirror, or the dielectric's reflection
   kSpecularTransmission = 1u << 3,  // a delta lobe: the dielectric's refraction
+  kGlossyTransmission = 1u << 4,    // the rough dielectric's (rough_dielectric.h), path only
 };
 inline constexpr uint8_t kSpecularLobes = kSpecularReflection | kSpecularTransmission;
 
@@ -69,6 +71,13 @@ struct BsdfLobes {
   float transmission = 0.0f;  // (1 - m) T: weight of the smooth dielectric part
   float ior = 1.5f;
   Imath::V3f transmission_tint{1.0f};  // colour of light passing in (the base colour)
+  // No KHR_materials_volume (or thicknessFactor 0): the rough lobe passes light straight
+  // through instead of refracting it (rough_dielectric.h).
+  bool thin_walled = true;
+  // Set by Bsdf::path_traced: the transmissive part is the rough dielectric, not the delta
+  // lobes, and wo is inside it (back_face).
+  bool rough_transmission = false;
+  bool back_face = false;
 };
 
 // Which lobes an albedo covers: an integrator that traces the delta lobes itself asks for
@@ -109,10 +118,19 @@ class Bsdf {
   // eval() and pdf() leaving its GGX lobe out; everywhere else the layer is its GGX lobe,
   // sampled by the visible normals. The Whitted integrators' mirror above kMinGgxAlpha (up to
   // kMirrorRoughness) is an approximation they make, not the material.
-  Bsdf path_traced() const {
+  //
+  // The transmissive part is likewise the smooth dielectric's delta lobes below kMinGgxAlpha
+  // (and at ior 1, where refraction bends nothing and the rough lobe is a delta too) and the
+  // rough dielectric above, with the layer's GGX lobe then covering only the opaque part
+  // (mirror_f0, mirror_f90) as the dielectric reflects for itself. `back_face`: wo is inside.
+  Bsdf path_traced(bool back_face = false) const {
     Bsdf b = *this;
     b.lobes_.mirror = lobes_.model == BrdfModel::gltf && lobes_.alpha < kMinGgxAlpha;
     b.lobes_.mirror_only = b.lobes_.mirror;
+    b.lobes_.rough_transmission = lobes_.model == BrdfModel::gltf && lobes_.transmission > 0.0f &&
+                                  lobes_.alpha >= kMinGgxAlpha &&
+                                  (lobes_.ior != 1.0f || lobes_.thin_walled);
+    b.lobes_.back_face = back_face;
     return b;
   }
   const Imath::V3f& shading_normal() const { return normal_; }
@@ -124,15 +142,33 @@ class Bsdf {
     if (has(lobes_.diffuse_albedo)) f |= kDiffuseReflection;
     if (has(lobes_.specular_f90) || has(lobes_.specular_f0)) f |= kGlossyReflection;
     if (lobes_.mirror && has(mirror_f90())) f |= kSpecularReflection;
-    if (lobes_.transmission > 0.0f) f |= kSpecularReflection | kSpecularTransmission;
+    if (lobes_.rough_transmission)
+      f |= kGlossyReflection | kGlossyTransmission;
+    else if (lobes_.transmission > 0.0f)
+      f |= kSpecularReflection | kSpecularTransmission;
     return f;
   }
 
   // f(wo, wi) of the non-delta lobes, for wi on wo's side of the shading normal `n`
-  // (normal_towards(wo)); zero below it.
+  // (normal_towards(wo)); below it, only the rough dielectric's transmission.
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
     const float cos_i = dot(n, wi);
+    if (lobes_.rough_transmission) {
+      const Imath::V3f transmitted = rough_dielectric_eval(wo, wi, n);
+      if (cos_i <= 0.0f) return transmitted;
+      return transmitted + eval_reflection(wo, wi, n, cos_i, mirror_f0(), mirror_f90());
+    }
     if (cos_i <= 0.0f) return Imath::V3f(0.0f);
+    return eval_reflection(wo, wi, n, cos_i, lobes_.specular_f0, lobes_.specular_f90);
+  }
+  Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi) const {
+    return eval(wo, wi, normal_towards(wo));
+  }
+
+  // The reflection lobes' f: the diffuse base and the layer's GGX lobe with the Fresnel
+  // of `f0`, `f90` (the whole layer's, or the opaque part's beside a rough dielectric).
+  Imath::V3f eval_reflection(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n,
+                             float cos_i, const Imath::V3f& f0, const Imath::V3f& f90) const {
     if (lobes_.model == BrdfModel::lecture) return eval_lecture(wo, wi, n);
     const float cos_o = std::fmax(0.0f, dot(n, wo));
     Imath::V3f h = wo + wi;
@@ -146,12 +182,8 @@ class Bsdf {
     if (lobes_.mirror_only) return diffuse;
     const float alpha = std::fmax(lobes_.alpha, kMinGgxAlpha);
     const float dv = ggx_d(dot(n, h), alpha) * ggx_visibility(cos_i, cos_o, alpha);
-    const Imath::V3f fresnel =
-        lobes_.specular_f0 + (lobes_.specular_f90 - lobes_.specular_f0) * weight;
+    const Imath::V3f fresnel = f0 + (f90 - f0) * weight;
     return diffuse + fresnel * dv;
-  }
-  Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi) const {
-    return eval(wo, wi, normal_towards(wo));
   }
 
   // The light the surface reflects towards wo under a uniform radiance of 1 from every
@@ -186,11 +218,15 @@ class Bsdf {
   float pdf(const Imath::V3f& wo, const Imath::V3f& wi) const {
     const Imath::V3f n = normal_towards(wo);
     const float cos_wi = dot(n, wi);
-    if (cos_wi <= 0.0f) return 0.0f;
     const LobeChoice c = choice(wo, n);
+    const float dielectric =
+        c.dielectric > 0.0f
+            ? c.dielectric * rough_dielectric().pdf(to_local(wo, n), to_local(wi, n))
+            : 0.0f;
+    if (cos_wi <= 0.0f) return dielectric;
     float density = c.diffuse * cos_wi * kInvPi;
     if (c.glossy > 0.0f) density += c.glossy * glossy_pdf(wo, wi, n);
-    return density;
+    return density + dielectric;
   }
 
   // Picks a lobe with `u_lobe` (in proportion to its albedo estimate) and a direction with
@@ -220,6 +256,60 @@ class Bsdf {
       return cos_wi > 0.0f;
     }
     const float u_rest = (u_lobe - c.specular) / std::max(1e-30f, 1.0f - c.specular);
+    return sample_reflection(wo, n, c, u_rest, u, out);
+  }
+
+  // The delta lobes' directions and weights at the shading normal `n` (normal_towards(wo)),
+  // transmission first: the refracted ray (unless total internal reflection) and one
+  // reflection ray carrying both the mirror's and the dielectric's reflection. `back_face`:
+  // wo is inside the dielectric. Mirror and Transmission say which lobes to consider, so a
+  // caller specialised on the scene leaves out what no surface has. Returns the count.
+  template <bool Mirror, bool Transmission>
+  int specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
+                     SpecularLobe* out) const {
+    const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
+    Imath::V3f reflect_weight(0.0f);
+    int count = 0;
+    if constexpr (Mirror) {
+      if (lobes_.mirror) {
+        const Imath::V3f f0 = mirror_f0();
+        reflect_weight += f0 + (mirror_f90() - f0) * schlick_weight(cos_i);
+      }
+    }
+    if constexpr (Transmission) {
+      if (lobes_.transmission > 0.0f && !lobes_.rough_transmission) {
+        // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.
+        const float eta = back_face ? 1.0f / lobes_.ior : lobes_.ior;
+        const float fresnel = fresnel_dielectric(cos_i, eta);
+        reflect_weight += Imath::V3f(lobes_.transmission * fresnel);
+        Imath::V3f refracted;
+        if (fresnel < 1.0f && refract(-wo, n, eta, &refracted)) {
+          const Imath::V3f tint = back_face ? Imath::V3f(1.0f) : lobes_.transmission_tint;
+          out[count++] = {refracted, tint, lobes_.transmission * (1.0f - fresnel), true};
+        }
+      }
+    }
+    if (reflect_weight.x > 0.0f || reflect_weight.y > 0.0f || reflect_weight.z > 0.0f)
+      out[count++] = {normalize(reflect(-wo, n)), reflect_weight, 1.0f, false};
+    return count;
+  }
+
+ private:
+  struct LobeChoice {
+    float specular = 0.0f, diffuse = 0.0f, glossy = 0.0f, dielectric = 0.0f;
+  };
+
+  // The non-delta lobes' part of sample(), `u_rest` choosing among them.
+  bool sample_reflection(const Imath::V3f& wo, const Imath::V3f& n, const LobeChoice& c,
+                         float u_rest, const Imath::V2f& u, BsdfSample* out) const {
+    if (c.dielectric > 0.0f) {
+      // The rough dielectric's share comes last.
+      const float reflect_share = c.diffuse + c.glossy;
+      const float x = u_rest * (reflect_share + c.dielectric);
+      if (x >= reflect_share)
+        return sample_rough_dielectric(wo, n, (x - reflect_share) / c.dielectric, u, out);
+      u_rest = x / reflect_share;
+    }
     Imath::V3f wi;
     if (u_rest * (c.diffuse + c.glossy) < c.diffuse || c.glossy <= 0.0f) {
       wi = from_local(square_to_cosine_hemisphere(u), n);
@@ -243,42 +333,34 @@ class Bsdf {
     return out->pdf > 0.0f;
   }
 
-  // The delta lobes' directions and weights at the shading normal `n` (normal_towards(wo)),
-  // transmission first: the refracted ray (unless total internal reflection) and one
-  // reflection ray carrying both the mirror's and the dielectric's reflection. `back_face`:
-  // wo is inside the dielectric. Mirror and Transmission say which lobes to consider, so a
-  // caller specialised on the scene leaves out what no surface has. Returns the count.
-  template <bool Mirror, bool Transmission>
-  int specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
-                     SpecularLobe* out) const {
-    const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
-    Imath::V3f reflect_weight(0.0f);
-    int count = 0;
-    if constexpr (Mirror) {
-      if (lobes_.mirror) {
-        const Imath::V3f f0 = mirror_f0();
-        reflect_weight += f0 + (mirror_f90() - f0) * schlick_weight(cos_i);
-      }
-    }
-    if constexpr (Transmission) {
-      if (lobes_.transmission > 0.0f) {
-        // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.
-        const float eta = back_face ? 1.0f / lobes_.ior : lobes_.ior;
-        const float fresnel = fresnel_dielectric(cos_i, eta);
-        reflect_weight += Imath::V3f(lobes_.transmission * fresnel);
-        Imath::V3f refracted;
-        if (fresnel < 1.0f && refract(-wo, n, eta, &refracted)) {
-          const Imath::V3f tint = back_face ? Imath::V3f(1.0f) : lobes_.transmission_tint;
-          out[count++] = {refracted, tint, lobes_.transmission * (1.0f - fresnel), true};
-        }
-      }
-    }
-    if (reflect_weight.x > 0.0f || reflect_weight.y > 0.0f || reflect_weight.z > 0.0f)
-      out[count++] = {normalize(reflect(-wo, n)), reflect_weight, 1.0f, false};
-    return count;
+  // The rough dielectric at `n` (normal_towards(wo)) in its local frame.
+  RoughDielectric rough_dielectric() const {
+    const bool inside = lobes_.back_face && !lobes_.thin_walled;
+    return {std::fmax(lobes_.alpha, kMinGgxAlpha), inside ? 1.0f / lobes_.ior : lobes_.ior,
+            lobes_.thin_walled};
+  }
+  // Its transmitted light takes the base colour on entry (every pass for a thin wall).
+  Imath::V3f transmission_weight() const {
+    const bool tinted = lobes_.thin_walled || !lobes_.back_face;
+    return (tinted ? lobes_.transmission_tint : Imath::V3f(1.0f)) * lobes_.transmission;
+  }
+  Imath::V3f rough_dielectric_eval(const Imath::V3f& wo, const Imath::V3f& wi,
+                                   const Imath::V3f& n) const {
+    const Imath::V3f wi_local = to_local(wi, n);
+    const float f = rough_dielectric().eval(to_local(wo, n), wi_local);
+    return wi_local.z < 0.0f ? transmission_weight() * f : Imath::V3f(lobes_.transmission * f);
+  }
+  bool sample_rough_dielectric(const Imath::V3f& wo, const Imath::V3f& n, float u_choice,
+                               const Imath::V2f& u, BsdfSample* out) const {
+    RoughDielectricSample s;
+    if (!rough_dielectric().sample(to_local(wo, n), u_choice, u, &s)) return false;
+    out->wi = from_local(s.wi, n);
+    out->f = eval(wo, out->wi, n);
+    out->pdf = pdf(wo, out->wi);
+    out->lobe = s.transmission ? kGlossyTransmission : kGlossyReflection;
+    return out->pdf > 0.0f;
   }
 
- private:
   // The lecture's lobes: Lambert under the layer's normal-incidence share, and normalised
   // Phong about the mirror direction R = reflect(-wi, n).
   Imath::V3f eval_lecture(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
@@ -305,15 +387,18 @@ class Bsdf {
 
   // How sample() splits its choice: the delta lobes' share first, then diffuse and glossy in
   // proportion to estimates of their albedos (any positive split is unbiased).
-  struct LobeChoice {
-    float specular = 0.0f, diffuse = 0.0f, glossy = 0.0f;
-  };
   LobeChoice choice(const Imath::V3f& wo, const Imath::V3f& n) const {
     SpecularLobe lobes[2];
     float specular = 0.0f;
     const int count = specular_lobes<true, true>(wo, n, false, lobes);
     for (int i = 0; i < count; ++i) specular += luminance(lobes[i].weight());
     const float diffuse = luminance(lobes_.diffuse_albedo);
+    if (lobes_.rough_transmission) {
+      // The layer's GGX lobe over the opaque part, and the rough dielectric by its weight.
+      const float glossy = luminance(mirror_f90()), dielectric = lobes_.transmission;
+      const float total = specular + diffuse + glossy + dielectric;
+      return {specular / total, diffuse / total, glossy / total, dielectric / total};
+    }
     // A smooth layer's light is the mirror's; its GGX lobe is for punctual lights only.
     const float glossy = lobes_.mirror
                              ? 0.0f
