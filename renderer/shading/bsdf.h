@@ -78,6 +78,9 @@ struct BsdfLobes {
   // lobes, and wo is inside it (back_face).
   bool rough_transmission = false;
   bool back_face = false;
+  // Set by Bsdf::path_traced for transmissive materials: the layer's GGX lobe covers the opaque
+  // part only, the dielectric (rough, or delta at ior 1) reflecting for itself.
+  bool opaque_layer = false;
 };
 
 // Which lobes an albedo covers: an integrator that traces the delta lobes itself asks for
@@ -131,6 +134,7 @@ class Bsdf {
                                   lobes_.alpha >= kMinGgxAlpha &&
                                   (lobes_.ior != 1.0f || lobes_.thin_walled);
     b.lobes_.back_face = back_face;
+    b.lobes_.opaque_layer = lobes_.model == BrdfModel::gltf && lobes_.transmission > 0.0f;
     return b;
   }
   const Imath::V3f& shading_normal() const { return normal_; }
@@ -159,6 +163,7 @@ class Bsdf {
       return transmitted + eval_reflection(wo, wi, n, cos_i, mirror_f0(), mirror_f90());
     }
     if (cos_i <= 0.0f) return Imath::V3f(0.0f);
+    if (lobes_.opaque_layer) return eval_reflection(wo, wi, n, cos_i, mirror_f0(), mirror_f90());
     return eval_reflection(wo, wi, n, cos_i, lobes_.specular_f0, lobes_.specular_f90);
   }
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi) const {
@@ -400,10 +405,10 @@ class Bsdf {
       return {specular / total, diffuse / total, glossy / total, dielectric / total};
     }
     // A smooth layer's light is the mirror's; its GGX lobe is for punctual lights only.
-    const float glossy = lobes_.mirror
-                             ? 0.0f
-                             : luminance(lobes_.model == BrdfModel::lecture ? lobes_.specular_f0
-                                                                            : lobes_.specular_f90);
+    const float glossy = lobes_.mirror                        ? 0.0f
+                         : lobes_.model == BrdfModel::lecture ? luminance(lobes_.specular_f0)
+                         : lobes_.opaque_layer                ? luminance(mirror_f90())
+                                                              : luminance(lobes_.specular_f90);
     const float total = specular + diffuse + glossy;
     if (!(total > 0.0f)) return {};
     const float rest = 1.0f - specular / total;
