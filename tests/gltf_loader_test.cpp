@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -433,7 +434,8 @@ TEST(GltfLoaderHandMade, PunctualLights) {
 TEST(GltfLoaderHandMade, MaterialExtensions) {
   Builder b;
   b.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior",
-                             "KHR_materials_emissive_strength", "KHR_materials_sheen"};
+                             "KHR_materials_volume", "KHR_materials_emissive_strength",
+                             "KHR_materials_sheen"};
   b.doc["extensionsRequired"] = {"KHR_materials_transmission"};
   b.doc["materials"] =
       json::array({{{"name", "glass"},
@@ -446,6 +448,10 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
                     {"extensions",
                      {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
                       {"KHR_materials_ior", {{"ior", 1.33}}},
+                      {"KHR_materials_volume",
+                       {{"thicknessFactor", 0.5},
+                        {"attenuationDistance", 2.0},
+                        {"attenuationColor", {0.5, 0.25, 1.0}}}},
                       {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
                       {"KHR_materials_specular",
                        {{"specularFactor", 0.5}, {"specularColorFactor", {2.0, 1.0, 0.0}}}}}}},
@@ -470,6 +476,9 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_EQ(m.emissive, C3f(2.0f, 1.0f, 4.0f));
   EXPECT_FLOAT_EQ(m.transmission, 0.75f);
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
+  EXPECT_FLOAT_EQ(m.thickness, 0.5f);
+  EXPECT_FLOAT_EQ(m.attenuation_distance, 2.0f);
+  EXPECT_EQ(m.attenuation_colour, C3f(0.5f, 0.25f, 1.0f));
   EXPECT_FLOAT_EQ(m.specular, 0.5f);
   EXPECT_EQ(m.specular_colour, C3f(2.0f, 1.0f, 0.0f));  // above 1 is allowed by the extension
   // glTF's defaults.
@@ -479,12 +488,16 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_FLOAT_EQ(d.roughness, 1.0f);
   EXPECT_FLOAT_EQ(d.ior, 1.5f);
   EXPECT_FLOAT_EQ(d.transmission, 0.0f);
+  EXPECT_FLOAT_EQ(d.thickness, 0.0f);  // thin-walled
+  EXPECT_EQ(d.attenuation_distance, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(d.attenuation_colour, C3f(1.0f, 1.0f, 1.0f));
   EXPECT_EQ(d.emissive, C3f(0.0f, 0.0f, 0.0f));
   EXPECT_FALSE(d.double_sided);
   EXPECT_FLOAT_EQ(d.specular, 1.0f);
   EXPECT_EQ(d.specular_colour, C3f(1.0f, 1.0f, 1.0f));
   EXPECT_EQ(s.meshes.at(0).primitives.at(0).material, 0);
   EXPECT_TRUE(has_warning(s, "extensionsUsed: extension \"KHR_materials_sheen\""));
+  EXPECT_FALSE(has_warning(s, "KHR_materials_volume"));  // supported now
 }
 
 TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
