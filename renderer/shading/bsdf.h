@@ -15,6 +15,10 @@
 // dielectric that reflects F and refracts 1 - F (exact Fresnel with the material's ior),
 // tinted by the base colour on entry. eval() keeps the layer's GGX lobe on smooth surfaces
 // too: it is how a punctual light, which no mirror ray can find, shows its highlight.
+//
+// Under the path tracer (path_traced()) a rough transmissive part is instead the rough
+// dielectric of rough_dielectric.h: glossy reflection and transmission with exact Fresnel,
+// refracting for KHR_materials_volume materials, passing straight through for thin walls.
 #pragma once
 
 #include <algorithm>
