@@ -15,12 +15,14 @@
 // far side of the geometric normal) puts the path inside that object when it arrived on the
 // front face and outside when on the back face; while inside, every segment, the segment of
 // a light sample included, keeps exp(-sigma_a length) of the throughput (Beer-Lambert). Media
-// do not nest: leaving any volume puts the path outside all of them. After kRouletteDepth bounces a
-// path continues with probability min(1, max(beta)) and its throughput is divided by it (Russian
-// roulette, unbiased; --roulette-depth). --max-depth bounds the bounces; --clamp, off by default,
-// caps each sample's radiance (its largest channel) and so biases bright paths down, for previews
-// only. --strategy 1 or 2 keeps only the light samples or only the BSDF samples for lights
-// that are not deltas: the same image in expectation, noisier, for checking MIS.
+// do not nest: leaving any volume puts the path outside all of them.
+//
+// After kRouletteDepth bounces a path continues with probability min(1, max(beta)) and its
+// throughput is divided by it (Russian roulette, unbiased; --roulette-depth). --max-depth bounds
+// the bounces; --clamp, off by default, caps each sample's radiance (its largest channel) and so
+// biases bright paths down, for previews only. --strategy 1 or 2 keeps only the light samples or
+// only the BSDF samples for lights that are not deltas: the same image in expectation, noisier, for
+// checking MIS.
 //
 // Each bounce k draws its random numbers from fixed sample dimensions,
 // 2 + kDimensionsPerBounce k onwards (renderer/sampling/sampler.h), so a pixel's sample is a
