@@ -7,12 +7,22 @@
 // (a perfect mirror, alpha = 0; a smooth dielectric) the BSDF sample's.
 //
 // The BSDF is glTF's (renderer/shading/bsdf.h, Bsdf::path_traced): GGX sampled by its visible
-// normals (Heitz 2018), Lambert by the cosine. After kRouletteDepth bounces a path continues
-// with probability min(1, max(beta)) and its throughput is divided by it (Russian roulette,
-// unbiased; --roulette-depth). --max-depth bounds the bounces; --clamp, off by default, caps
-// each sample's radiance (its largest channel) and so biases bright paths down, for previews
-// only. --strategy 1 or 2 keeps only the light samples or only the BSDF samples for lights
-// that are not deltas: the same image in expectation, noisier, for checking MIS.
+// normals (Heitz 2018), Lambert by the cosine, and a rough transmissive part a rough dielectric
+// (renderer/shading/rough_dielectric.h) whose transmitted directions are found by BSDF samples
+// only (a light sample cannot see through the surface), their light counted whole.
+//
+// KHR_materials_volume: a transmission event through a volume material's surface (wi on the
+// far side of the geometric normal) puts the path inside that object when it arrived on the
+// front face and outside when on the back face; while inside, every segment, the segment of
+// a light sample included, keeps exp(-sigma_a length) of the throughput (Beer-Lambert). Media
+// do not nest: leaving any volume puts the path outside all of them.
+//
+// After kRouletteDepth bounces a path continues with probability min(1, max(beta)) and its
+// throughput is divided by it (Russian roulette, unbiased; --roulette-depth). --max-depth bounds
+// the bounces; --clamp, off by default, caps each sample's radiance (its largest channel) and so
+// biases bright paths down, for previews only. --strategy 1 or 2 keeps only the light samples or
+// only the BSDF samples for lights that are not deltas: the same image in expectation, noisier, for
+// checking MIS.
 //
 // Each bounce k draws its random numbers from fixed sample dimensions,
 // 2 + kDimensionsPerBounce k onwards (renderer/sampling/sampler.h), so a pixel's sample is a
@@ -29,6 +39,7 @@
 // | strategy  | integer | 0       | 0 MIS, 1 light samples only, 2 BSDF samples only         |
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "integrators/local_shading.h"
 #include "integrators/registry.h"
@@ -57,6 +68,7 @@ enum class Strategy : uint8_t { mis, light_only, bsdf_only };
 constexpr uint32_t kDimensionsPerBounce = 8;
 // Shadow rays towards an area light stop short of its surface by this fraction of the distance.
 constexpr float kShadowRayEnd = 0.9999f;
+constexpr float kInfiniteDistance = std::numeric_limits<float>::infinity();
 
 float power_heuristic(float f, float g) {
   const float f2 = f * f, g2 = g * g;
@@ -145,12 +157,18 @@ struct PathTracer {
     // whose light is counted whole; and the point it left from.
     float bsdf_pdf = -1.0f;
     V3f from(0.0f);
+    // The absorption of the volume the path is in, if any (the camera is outside).
+    bool inside = false;
+    V3f absorption(0.0f);
     for (int depth = 0;; ++depth) {
+      if (inside)
+        beta = hadamard(beta, transmittance(absorption, found ? hit.t : kInfiniteDistance));
       if (!found) {
         radiance += hadamard(beta, escaped(ray.direction, bsdf_pdf, depth == 0));
         break;
       }
-      const SurfaceResponse surface = evaluate(scene.material(hit.material), hit);
+      const Material& material = scene.material(hit.material);
+      const SurfaceResponse surface = evaluate(material, hit);
       if constexpr (HasEmission) {
         const V3f& e = surface.emission;
         if (e.x > 0.0f || e.y > 0.0f || e.z > 0.0f) {
@@ -165,7 +183,7 @@ struct PathTracer {
         }
       }
       if (depth >= params.max_depth) break;
-      const Bsdf bsdf = surface.bsdf.path_traced();
+      const Bsdf bsdf = surface.bsdf.path_traced(hit.back_face);
       const V3f wo = -ray.direction;
       const V3f n = bsdf.normal_towards(wo);
       PixelSampler sampler(pixel, sample,
@@ -181,13 +199,14 @@ struct PathTracer {
       // point on an emissive sphere itself is then unambiguously inside or outside it.
       const V3f reference = shadow_ray_origin(hit, n);
       if (bsdf.flags() & (kDiffuseReflection | kGlossyReflection))
-        radiance += hadamard(beta, light_sample(reference, bsdf, wo, n, u_choice,
-                                                Imath::V2f(u_light.x, u_light.y), counters));
+        radiance += hadamard(
+            beta, light_sample(reference, bsdf, wo, n, u_choice, Imath::V2f(u_light.x, u_light.y),
+                               inside ? &absorption : nullptr, counters));
 
       BsdfSample bs;
       if (!bsdf.sample(wo, u_lobe, Imath::V2f(u_bsdf.x, u_bsdf.y), hit.back_face, &bs)) break;
       beta = hadamard(beta, bs.f) * (std::fabs(dot(n, bs.wi)) / bs.pdf);
-      bsdf_pdf = bs.specular() ? -1.0f : bs.pdf;
+      bsdf_pdf = bs.specular() || bs.lobe == kGlossyTransmission ? -1.0f : bs.pdf;
       from = reference;
       if (depth + 1 >= params.roulette_depth) {
         const float survive = std::fmin(1.0f, max_component(beta));
@@ -195,9 +214,13 @@ struct PathTracer {
         beta /= survive;
       }
       const V3f outside = face_forward(hit.geometric_normal, wo);
+      const bool crosses = dot(bs.wi, outside) < 0.0f;
+      if (crosses && !material.thin_walled) {
+        inside = !hit.back_face;
+        absorption = material.absorption;
+      }
       ray = Ray{};
-      ray.origin = offset_ray_origin(hit.position, dot(bs.wi, outside) < 0.0f ? -outside : outside,
-                                     hit.surface_error);
+      ray.origin = offset_ray_origin(hit.position, crosses ? -outside : outside, hit.surface_error);
       ray.direction = bs.wi;
       ++(*counters)[RayKind::bounce];
       found = scene.geometry().intersect(ray, &hit);
@@ -210,9 +233,10 @@ struct PathTracer {
   }
 
   // One light sample from `reference` (shadow_ray_origin of the hit), weighed against the
-  // BSDF's density for the same direction.
+  // BSDF's density for the same direction; `absorption`: the volume the point is in, if any.
   V3f light_sample(const V3f& reference, const Bsdf& bsdf, const V3f& wo, const V3f& n,
-                   float u_choice, const Imath::V2f& u, RayCounters* counters) const {
+                   float u_choice, const Imath::V2f& u, const V3f* absorption,
+                   RayCounters* counters) const {
     const RenderScene& scene = context.scene;
     ChosenEmitter chosen;
     if (!scene.emitter_sampler().sample(u_choice, &chosen)) return V3f(0.0f);
@@ -254,7 +278,9 @@ struct PathTracer {
     shadow.tfar = arrival.distance;
     ++(*counters)[RayKind::shadow];
     if (scene.geometry().occluded(shadow)) return V3f(0.0f);
-    const V3f contribution = hadamard(f, arrival.radiance) * cos_light;
+    V3f contribution = hadamard(f, arrival.radiance) * cos_light;
+    if (absorption)
+      contribution = hadamard(contribution, transmittance(*absorption, arrival.distance));
     if (delta) return contribution / chosen.pmf;
     const float light_pdf = chosen.pmf * arrival.pdf;
     const float weight = params.light_weight(light_pdf, bsdf.pdf(wo, arrival.wi));

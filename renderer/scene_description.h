@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -115,8 +116,13 @@ struct MaterialDescription {
   // The texture coordinates each slot reads: texCoord and KHR_texture_transform.
   TextureMapping base_colour_mapping, metallic_roughness_mapping, emissive_mapping;
   TextureMapping normal_mapping, occlusion_mapping;
-  float transmission = 0.0f;              // KHR_materials_transmission
-  float ior = 1.5f;                       // KHR_materials_ior
+  float transmission = 0.0f;  // KHR_materials_transmission
+  float ior = 1.5f;           // KHR_materials_ior
+  // KHR_materials_volume: 0 thickness is thin-walled (no volume); light inside is absorbed
+  // as attenuation_colour^(distance / attenuation_distance).
+  float thickness = 0.0f;
+  float attenuation_distance = std::numeric_limits<float>::infinity();
+  C3f attenuation_colour{1.0f, 1.0f, 1.0f};
   float specular = 1.0f;                  // KHR_materials_specular: specularFactor
   C3f specular_colour{1.0f, 1.0f, 1.0f};  // KHR_materials_specular: specularColorFactor
   // KHR_materials_clearcoat: weight (x texture R), roughness (x texture G) and the coat's own

@@ -46,6 +46,34 @@ void ior(MaterialExtensionReader& r, const tinygltf::Value& ext, const std::stri
   d.ior = static_cast<float>(value);
 }
 
+// The spec's ranges: thickness >= 0 (0: thin-walled), distance > 0 (absent: nothing is
+// absorbed), colour components in [0, 1]; all finite as floats, as the renderer reads them.
+void volume(MaterialExtensionReader& r, const tinygltf::Value& ext, const std::string& e,
+            MaterialDescription& d) {
+  constexpr double kFloatMax = std::numeric_limits<float>::max();
+  const double thickness = r.number(ext, "thicknessFactor", 0.0, e);
+  if (!(thickness >= 0.0) || thickness > kFloatMax)
+    r.error(e + ".thicknessFactor", "expected a number >= 0, finite as a float");
+  d.thickness = static_cast<float>(thickness);
+  if (ext.Has("attenuationDistance")) {
+    const double distance = r.number(ext, "attenuationDistance", 1.0, e);
+    if (!(distance > 0.0) || distance > kFloatMax)
+      r.error(e + ".attenuationDistance", "expected a number > 0, finite as a float");
+    d.attenuation_distance = static_cast<float>(distance);
+  }
+  if (ext.Has("attenuationColor")) {
+    const tinygltf::Value& v = ext.Get("attenuationColor");
+    if (!v.IsArray() || v.ArrayLen() != 3) r.error(e + ".attenuationColor", "expected 3 numbers");
+    for (int i = 0; i < 3; ++i) {
+      const tinygltf::Value& c = v.Get(i);
+      d.attenuation_colour[i] = r.unit(c.IsNumber() ? c.GetNumberAsDouble() : -1.0,
+                                       e + ".attenuationColor[" + std::to_string(i) + "]");
+    }
+  }
+  if (ext.Has("thicknessTexture"))
+    r.warn(e + ".thicknessTexture", "not supported; a path tracer measures the real thickness");
+}
+
 void specular(MaterialExtensionReader& r, const tinygltf::Value& ext, const std::string& e,
               MaterialDescription& d) {
   d.specular = r.unit(r.number(ext, "specularFactor", 1.0, e), e + ".specularFactor");
@@ -100,6 +128,7 @@ constexpr ExtensionHandler kExtensions[] = {
     {"KHR_materials_emissive_strength", true, emissive_strength, "materials"},
     {"KHR_materials_transmission", true, transmission, "materials"},
     {"KHR_materials_ior", true, ior, "materials"},
+    {"KHR_materials_volume", true, volume, "materials"},
     {"KHR_materials_specular", true, specular, "materials"},
     {"KHR_materials_unlit", true, unlit, "materials"},
     {"KHR_materials_sheen", true, read_sheen, "materials"},

@@ -231,6 +231,13 @@ void check_material(const Checker& c, const json& m, const std::string& p) {
       c.number(*t, "transmissionFactor", ep + ".KHR_materials_transmission");
       c.texture_info(*t, "transmissionTexture", ep + ".KHR_materials_transmission");
     }
+    if (auto t = ext->find("KHR_materials_volume"); t != ext->end()) {
+      const std::string vp = ep + ".KHR_materials_volume";
+      c.number(*t, "thicknessFactor", vp);
+      c.texture_info(*t, "thicknessTexture", vp);
+      c.number(*t, "attenuationDistance", vp);
+      c.number_array(*t, "attenuationColor", vp, 3);
+    }
     if (auto t = ext->find("KHR_materials_ior"); t != ext->end()) {
       c.number(*t, "ior", ep + ".KHR_materials_ior");
     }

@@ -839,6 +839,31 @@ TEST(GltfHostile, ValuesFiniteAsDoublesMustBeFiniteAsFloats) {
   EXPECT_CONTAINS(load_error(write_json(dir / "asset" / "i.gltf", doc)),
                   ": materials[0].extensions.KHR_materials_ior.ior: index of refraction 1e+300 "
                   "exceeds 1000");
+  // KHR_materials_volume: the spec's ranges, finite as floats.
+  const auto volume_error = [&](const json& volume) {
+    doc["materials"] = json::array({{{"extensions", {{"KHR_materials_volume", volume}}}}});
+    return load_error(write_json(dir / "asset" / "vol.gltf", doc));
+  };
+  EXPECT_CONTAINS(volume_error({{"thicknessFactor", -1}}),
+                  ": materials[0].extensions.KHR_materials_volume.thicknessFactor: expected a "
+                  "number >= 0, finite as a float");
+  EXPECT_CONTAINS(
+      volume_error({{"thicknessFactor", 1e300}}),
+      "KHR_materials_volume.thicknessFactor: expected a number >= 0, finite as a float");
+  EXPECT_CONTAINS(volume_error({{"attenuationDistance", 0}}),
+                  ": materials[0].extensions.KHR_materials_volume.attenuationDistance: expected a "
+                  "number > 0, finite as a float");
+  EXPECT_CONTAINS(volume_error({{"attenuationDistance", 1e39}}),
+                  "KHR_materials_volume.attenuationDistance: expected a number > 0");
+  EXPECT_CONTAINS(volume_error({{"attenuationColor", {1, 1.5, 1}}}),
+                  ": materials[0].extensions.KHR_materials_volume.attenuationColor[1]: value 1.5 "
+                  "is outside [0, 1]");
+  EXPECT_CONTAINS(volume_error({{"attenuationColor", {1, 1}}}),
+                  "KHR_materials_volume.attenuationColor");
+  EXPECT_CONTAINS(volume_error({{"attenuationColor", {1, "red", 1}}}),
+                  "KHR_materials_volume.attenuationColor");
+  EXPECT_CONTAINS(volume_error({{"thicknessFactor", "thick"}}),
+                  "KHR_materials_volume.thicknessFactor");
   doc.erase("materials");
   doc["nodes"][0]["scale"] = {1e39, 1, 1};
   EXPECT_CONTAINS(load_error(write_json(dir / "asset" / "s.gltf", doc)),

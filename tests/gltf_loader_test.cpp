@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -432,9 +433,10 @@ TEST(GltfLoaderHandMade, PunctualLights) {
 
 TEST(GltfLoaderHandMade, MaterialExtensions) {
   Builder b;
-  b.doc["extensionsUsed"] = {"KHR_materials_transmission",      "KHR_materials_ior",
-                             "KHR_materials_emissive_strength", "KHR_materials_iridescence",
-                             "KHR_materials_clearcoat",         "KHR_materials_sheen"};
+  b.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior",
+                             "KHR_materials_volume",       "KHR_materials_emissive_strength",
+                             "KHR_materials_iridescence",  "KHR_materials_clearcoat",
+                             "KHR_materials_sheen"};
   b.doc["extensionsRequired"] = {"KHR_materials_transmission"};
   b.doc["materials"] = json::array(
       {{{"name", "glass"},
@@ -447,6 +449,10 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
         {"extensions",
          {{"KHR_materials_transmission", {{"transmissionFactor", 0.75}}},
           {"KHR_materials_ior", {{"ior", 1.33}}},
+          {"KHR_materials_volume",
+           {{"thicknessFactor", 0.5},
+            {"attenuationDistance", 2.0},
+            {"attenuationColor", {0.5, 0.25, 1.0}}}},
           {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
           {"KHR_materials_specular",
            {{"specularFactor", 0.5}, {"specularColorFactor", {2.0, 1.0, 0.0}}}},
@@ -475,6 +481,9 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_EQ(m.emissive, C3f(2.0f, 1.0f, 4.0f));
   EXPECT_FLOAT_EQ(m.transmission, 0.75f);
   EXPECT_FLOAT_EQ(m.ior, 1.33f);
+  EXPECT_FLOAT_EQ(m.thickness, 0.5f);
+  EXPECT_FLOAT_EQ(m.attenuation_distance, 2.0f);
+  EXPECT_EQ(m.attenuation_colour, C3f(0.5f, 0.25f, 1.0f));
   EXPECT_FLOAT_EQ(m.specular, 0.5f);
   EXPECT_EQ(m.specular_colour, C3f(2.0f, 1.0f, 0.0f));  // above 1 is allowed by the extension
   EXPECT_FLOAT_EQ(m.clearcoat, 0.75f);
@@ -492,6 +501,9 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_FLOAT_EQ(d.roughness, 1.0f);
   EXPECT_FLOAT_EQ(d.ior, 1.5f);
   EXPECT_FLOAT_EQ(d.transmission, 0.0f);
+  EXPECT_FLOAT_EQ(d.thickness, 0.0f);  // thin-walled
+  EXPECT_EQ(d.attenuation_distance, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(d.attenuation_colour, C3f(1.0f, 1.0f, 1.0f));
   EXPECT_EQ(d.emissive, C3f(0.0f, 0.0f, 0.0f));
   EXPECT_FALSE(d.double_sided);
   EXPECT_FLOAT_EQ(d.specular, 1.0f);
@@ -502,8 +514,10 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
   EXPECT_FLOAT_EQ(d.sheen_roughness, 0.0f);
   EXPECT_EQ(s.meshes.at(0).primitives.at(0).material, 0);
   EXPECT_TRUE(has_warning(s, "extensionsUsed: extension \"KHR_materials_iridescence\""));
+  // Supported now: no warning.
   EXPECT_FALSE(has_warning(s, "extensionsUsed: extension \"KHR_materials_sheen\""));
   EXPECT_FALSE(has_warning(s, "extensionsUsed: extension \"KHR_materials_clearcoat\""));
+  EXPECT_FALSE(has_warning(s, "KHR_materials_volume"));
 }
 
 TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {

@@ -15,6 +15,10 @@
 // dielectric that reflects F and refracts 1 - F (exact Fresnel with the material's ior),
 // tinted by the base colour on entry. eval() keeps the layer's GGX lobe on smooth surfaces
 // too: it is how a punctual light, which no mirror ray can find, shows its highlight.
+//
+// Under the path tracer (path_traced()) a rough transmissive part is instead the rough
+// dielectric of rough_dielectric.h: glossy reflection and transmission with exact Fresnel,
+// refracting for KHR_materials_volume materials, passing straight through for thin walls.
 #pragma once
 
 #include <algorithm>
@@ -29,6 +33,7 @@
 #include "renderer/shading/clearcoat_sheen.h"
 #include "renderer/shading/ggx_albedo.h"
 #include "renderer/shading/microfacet.h"
+#include "renderer/shading/rough_dielectric.h"
 
 namespace prism {
 
@@ -38,6 +43,7 @@ enum BsdfLobe : uint8_t {
   kGlossyReflection = 1u << 1,
   kSpecularReflection = 1u << 2,    // a delta lobe: the mirror, or the dielectric's reflection
   kSpecularTransmission = 1u << 3,  // a delta lobe: the dielectric's refraction
+  kGlossyTransmission = 1u << 4,    // the rough dielectric's (rough_dielectric.h), path only
 };
 inline constexpr uint8_t kSpecularLobes = kSpecularReflection | kSpecularTransmission;
 
@@ -72,6 +78,16 @@ struct BsdfLobes {
   Imath::V3f transmission_tint{1.0f};  // colour of light passing in (the base colour)
   // KHR_materials_sheen and _clearcoat over all of the above (clearcoat_sheen.h).
   SurfaceLayers layers;
+  // No KHR_materials_volume (or thicknessFactor 0): the rough lobe passes light straight
+  // through instead of refracting it (rough_dielectric.h).
+  bool thin_walled = true;
+  // Set by Bsdf::path_traced: the transmissive part is the rough dielectric, not the delta
+  // lobes, and wo is inside it (back_face).
+  bool rough_transmission = false;
+  bool back_face = false;
+  // Set by Bsdf::path_traced for transmissive materials: the layer's GGX lobe covers the opaque
+  // part only, the dielectric (rough, or delta at ior 1) reflecting for itself.
+  bool opaque_layer = false;
 };
 
 // Which lobes an albedo covers: an integrator that traces the delta lobes itself asks for
@@ -112,11 +128,21 @@ class Bsdf {
   // eval() and pdf() leaving its GGX lobe out; everywhere else the layer is its GGX lobe,
   // sampled by the visible normals. The Whitted integrators' mirror above kMinGgxAlpha (up to
   // kMirrorRoughness) is an approximation they make, not the material.
-  Bsdf path_traced() const {
+  //
+  // The transmissive part is likewise the smooth dielectric's delta lobes below kMinGgxAlpha
+  // (and at ior 1, where refraction bends nothing and the rough lobe is a delta too) and the
+  // rough dielectric above, with the layer's GGX lobe then covering only the opaque part
+  // (mirror_f0, mirror_f90) as the dielectric reflects for itself. `back_face`: wo is inside.
+  Bsdf path_traced(bool back_face = false) const {
     Bsdf b = *this;
     b.lobes_.mirror = lobes_.model == BrdfModel::gltf && lobes_.alpha < kMinGgxAlpha;
     b.lobes_.mirror_only = b.lobes_.mirror;
     b.lobes_.layers.clearcoat_mirror = false;  // the coat is its GGX lobe, as the base
+    b.lobes_.rough_transmission = lobes_.model == BrdfModel::gltf && lobes_.transmission > 0.0f &&
+                                  lobes_.alpha >= kMinGgxAlpha &&
+                                  (lobes_.ior != 1.0f || lobes_.thin_walled);
+    b.lobes_.back_face = back_face;
+    b.lobes_.opaque_layer = lobes_.model == BrdfModel::gltf && lobes_.transmission > 0.0f;
     return b;
   }
   const Imath::V3f& shading_normal() const { return normal_; }
@@ -128,7 +154,10 @@ class Bsdf {
     if (has(lobes_.diffuse_albedo)) f |= kDiffuseReflection;
     if (has(lobes_.specular_f90) || has(lobes_.specular_f0)) f |= kGlossyReflection;
     if (lobes_.mirror && has(mirror_f90())) f |= kSpecularReflection;
-    if (lobes_.transmission > 0.0f) f |= kSpecularReflection | kSpecularTransmission;
+    if (lobes_.rough_transmission)
+      f |= kGlossyReflection | kGlossyTransmission;
+    else if (lobes_.transmission > 0.0f)
+      f |= kSpecularReflection | kSpecularTransmission;
     if (layered_) {
       f |= kGlossyReflection;
       if (lobes_.layers.clearcoat_mirror && lobes_.layers.clearcoat > 0.0f)
@@ -138,10 +167,12 @@ class Bsdf {
   }
 
   // f(wo, wi) of the non-delta lobes, for wi on wo's side of the shading normal `n`
-  // (normal_towards(wo)); zero below it.
+  // (normal_towards(wo)); below it, only the rough dielectric's transmission.
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
     if (!layered_) return eval_base(wo, wi, n);
-    if (dot(n, wi) <= 0.0f) return Imath::V3f(0.0f);
+    // Light the rough dielectric passes through crosses the layers on wo's side only.
+    if (dot(n, wi) <= 0.0f)
+      return eval_base(wo, wi, n) * lobes_.layers.view_transmittance(wo, n, coat_normal(n));
     return lobes_.layers.eval(wo, wi, n, coat_normal(n), eval_base(wo, wi, n));
   }
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi) const {
@@ -151,7 +182,20 @@ class Bsdf {
   // The base's f alone, without the layers over it.
   Imath::V3f eval_base(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
     const float cos_i = dot(n, wi);
+    if (lobes_.rough_transmission) {
+      const Imath::V3f transmitted = rough_dielectric_eval(wo, wi, n);
+      if (cos_i <= 0.0f) return transmitted;
+      return transmitted + eval_reflection(wo, wi, n, cos_i, mirror_f0(), mirror_f90());
+    }
     if (cos_i <= 0.0f) return Imath::V3f(0.0f);
+    if (lobes_.opaque_layer) return eval_reflection(wo, wi, n, cos_i, mirror_f0(), mirror_f90());
+    return eval_reflection(wo, wi, n, cos_i, lobes_.specular_f0, lobes_.specular_f90);
+  }
+
+  // The reflection lobes' f: the diffuse base and the layer's GGX lobe with the Fresnel
+  // of `f0`, `f90` (the whole layer's, or the opaque part's beside a rough dielectric).
+  Imath::V3f eval_reflection(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n,
+                             float cos_i, const Imath::V3f& f0, const Imath::V3f& f90) const {
     if (lobes_.model == BrdfModel::lecture) return eval_lecture(wo, wi, n);
     const float cos_o = std::fmax(0.0f, dot(n, wo));
     Imath::V3f h = wo + wi;
@@ -165,8 +209,7 @@ class Bsdf {
     if (lobes_.mirror_only) return diffuse;
     const float alpha = std::fmax(lobes_.alpha, kMinGgxAlpha);
     const float dv = ggx_d(dot(n, h), alpha) * ggx_visibility(cos_i, cos_o, alpha);
-    const Imath::V3f fresnel =
-        lobes_.specular_f0 + (lobes_.specular_f90 - lobes_.specular_f0) * weight;
+    const Imath::V3f fresnel = f0 + (f90 - f0) * weight;
     return diffuse + fresnel * dv;
   }
 
@@ -210,10 +253,15 @@ class Bsdf {
   float pdf(const Imath::V3f& wo, const Imath::V3f& wi) const {
     const Imath::V3f n = normal_towards(wo);
     const float cos_wi = dot(n, wi);
-    if (cos_wi <= 0.0f) return 0.0f;
     const LobeChoice c = choice(wo, n);
+    const float dielectric =
+        c.dielectric > 0.0f
+            ? c.dielectric * rough_dielectric().pdf(to_local(wo, n), to_local(wi, n))
+            : 0.0f;
+    if (cos_wi <= 0.0f) return dielectric;
     float density = c.diffuse * cos_wi * kInvPi;
     if (c.glossy > 0.0f) density += c.glossy * glossy_pdf(wo, wi, n);
+    density += dielectric;
     if (!layered_) return density;
     const Imath::V3f nc = coat_normal(n);
     const SurfaceLayers::Shares l = layer_shares(wo, n, nc);
@@ -272,6 +320,38 @@ class Bsdf {
       return cos_wi > 0.0f;
     }
     const float u_rest = (u_lobe - c.specular) / std::max(1e-30f, 1.0f - c.specular);
+    return sample_reflection(wo, n, c, u_rest, u, out);
+  }
+
+  // The delta lobes' directions and weights at the shading normal `n` (normal_towards(wo)),
+  // transmission first: the refracted ray (unless total internal reflection) and one
+  // reflection ray carrying both the mirror's and the dielectric's reflection. `back_face`:
+  // wo is inside the dielectric. Mirror and Transmission say which lobes to consider, so a
+  // caller specialised on the scene leaves out what no surface has. Returns the count.
+  template <bool Mirror, bool Transmission>
+  int specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
+                     SpecularLobe* out) const {
+    const int count = base_specular_lobes<Mirror, Transmission>(wo, n, back_face, out);
+    if (!layered_) return count;
+    return layer_specular_lobes<Mirror>(wo, n, out, count);
+  }
+
+ private:
+  struct LobeChoice {
+    float specular = 0.0f, diffuse = 0.0f, glossy = 0.0f, dielectric = 0.0f;
+  };
+
+  // The non-delta lobes' part of sample(), `u_rest` choosing among them.
+  bool sample_reflection(const Imath::V3f& wo, const Imath::V3f& n, const LobeChoice& c,
+                         float u_rest, const Imath::V2f& u, BsdfSample* out) const {
+    if (c.dielectric > 0.0f) {
+      // The rough dielectric's share comes last.
+      const float reflect_share = c.diffuse + c.glossy;
+      const float x = u_rest * (reflect_share + c.dielectric);
+      if (x >= reflect_share)
+        return sample_rough_dielectric(wo, n, (x - reflect_share) / c.dielectric, u, out);
+      u_rest = x / reflect_share;
+    }
     Imath::V3f wi;
     if (u_rest * (c.diffuse + c.glossy) < c.diffuse || c.glossy <= 0.0f) {
       wi = from_local(square_to_cosine_hemisphere(u), n);
@@ -295,20 +375,6 @@ class Bsdf {
     return out->pdf > 0.0f;
   }
 
-  // The delta lobes' directions and weights at the shading normal `n` (normal_towards(wo)),
-  // transmission first: the refracted ray (unless total internal reflection) and one
-  // reflection ray carrying both the mirror's and the dielectric's reflection. `back_face`:
-  // wo is inside the dielectric. Mirror and Transmission say which lobes to consider, so a
-  // caller specialised on the scene leaves out what no surface has. Returns the count.
-  template <bool Mirror, bool Transmission>
-  int specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
-                     SpecularLobe* out) const {
-    const int count = base_specular_lobes<Mirror, Transmission>(wo, n, back_face, out);
-    if (!layered_) return count;
-    return layer_specular_lobes<Mirror>(wo, n, out, count);
-  }
-
- private:
   // The base's delta lobes, as specular_lobes() without the layers.
   template <bool Mirror, bool Transmission>
   int base_specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
@@ -323,7 +389,7 @@ class Bsdf {
       }
     }
     if constexpr (Transmission) {
-      if (lobes_.transmission > 0.0f) {
+      if (lobes_.transmission > 0.0f && !lobes_.rough_transmission) {
         // eta = n_transmitted / n_incident: entering from the front, or leaving from inside.
         const float eta = back_face ? 1.0f / lobes_.ior : lobes_.ior;
         const float fresnel = fresnel_dielectric(cos_i, eta);
@@ -370,6 +436,34 @@ class Bsdf {
                                 luminance(base_albedo(wo, n, false, AlbedoScope::all_lobes)));
   }
 
+  // The rough dielectric at `n` (normal_towards(wo)) in its local frame.
+  RoughDielectric rough_dielectric() const {
+    const bool inside = lobes_.back_face && !lobes_.thin_walled;
+    return {std::fmax(lobes_.alpha, kMinGgxAlpha), inside ? 1.0f / lobes_.ior : lobes_.ior,
+            lobes_.thin_walled};
+  }
+  // Its transmitted light takes the base colour on entry (every pass for a thin wall).
+  Imath::V3f transmission_weight() const {
+    const bool tinted = lobes_.thin_walled || !lobes_.back_face;
+    return (tinted ? lobes_.transmission_tint : Imath::V3f(1.0f)) * lobes_.transmission;
+  }
+  Imath::V3f rough_dielectric_eval(const Imath::V3f& wo, const Imath::V3f& wi,
+                                   const Imath::V3f& n) const {
+    const Imath::V3f wi_local = to_local(wi, n);
+    const float f = rough_dielectric().eval(to_local(wo, n), wi_local);
+    return wi_local.z < 0.0f ? transmission_weight() * f : Imath::V3f(lobes_.transmission * f);
+  }
+  bool sample_rough_dielectric(const Imath::V3f& wo, const Imath::V3f& n, float u_choice,
+                               const Imath::V2f& u, BsdfSample* out) const {
+    RoughDielectricSample s;
+    if (!rough_dielectric().sample(to_local(wo, n), u_choice, u, &s)) return false;
+    out->wi = from_local(s.wi, n);
+    out->f = eval(wo, out->wi, n);
+    out->pdf = pdf(wo, out->wi);
+    out->lobe = s.transmission ? kGlossyTransmission : kGlossyReflection;
+    return out->pdf > 0.0f;
+  }
+
   // The lecture's lobes: Lambert under the layer's normal-incidence share, and normalised
   // Phong about the mirror direction R = reflect(-wi, n).
   Imath::V3f eval_lecture(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
@@ -396,20 +490,23 @@ class Bsdf {
 
   // How sample() splits its choice: the delta lobes' share first, then diffuse and glossy in
   // proportion to estimates of their albedos (any positive split is unbiased).
-  struct LobeChoice {
-    float specular = 0.0f, diffuse = 0.0f, glossy = 0.0f;
-  };
   LobeChoice choice(const Imath::V3f& wo, const Imath::V3f& n) const {
     SpecularLobe lobes[2];
     float specular = 0.0f;
     const int count = base_specular_lobes<true, true>(wo, n, false, lobes);
     for (int i = 0; i < count; ++i) specular += luminance(lobes[i].weight());
     const float diffuse = luminance(lobes_.diffuse_albedo);
+    if (lobes_.rough_transmission) {
+      // The layer's GGX lobe over the opaque part, and the rough dielectric by its weight.
+      const float glossy = luminance(mirror_f90()), dielectric = lobes_.transmission;
+      const float total = specular + diffuse + glossy + dielectric;
+      return {specular / total, diffuse / total, glossy / total, dielectric / total};
+    }
     // A smooth layer's light is the mirror's; its GGX lobe is for punctual lights only.
-    const float glossy = lobes_.mirror
-                             ? 0.0f
-                             : luminance(lobes_.model == BrdfModel::lecture ? lobes_.specular_f0
-                                                                            : lobes_.specular_f90);
+    const float glossy = lobes_.mirror                        ? 0.0f
+                         : lobes_.model == BrdfModel::lecture ? luminance(lobes_.specular_f0)
+                         : lobes_.opaque_layer                ? luminance(mirror_f90())
+                                                              : luminance(lobes_.specular_f90);
     const float total = specular + diffuse + glossy;
     if (!(total > 0.0f)) return {};
     const float rest = 1.0f - specular / total;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "renderer/image/colour.h"
 #include "renderer/math.h"
@@ -183,6 +184,25 @@ float dielectric_f0(float ior) {
   return r * r;
 }
 
+Rgb absorption_coefficient(const Rgb& attenuation_colour, float attenuation_distance) {
+  Rgb sigma(0.0f);
+  if (!(attenuation_distance < std::numeric_limits<float>::infinity())) return sigma;
+  for (int i = 0; i < 3; ++i) {
+    const float c = std::clamp(attenuation_colour[i], 0.0f, 1.0f);
+    sigma[i] =
+        c > 0.0f ? -std::log(c) / attenuation_distance : std::numeric_limits<float>::infinity();
+  }
+  return sigma;
+}
+
+Rgb transmittance(const Rgb& sigma_a, float distance) {
+  Rgb t(1.0f);
+  if (!(distance > 0.0f)) return t;
+  for (int i = 0; i < 3; ++i)
+    if (sigma_a[i] > 0.0f) t[i] = std::exp(-sigma_a[i] * distance);
+  return t;
+}
+
 Material make_material(const MaterialDescription& d, const std::vector<Texture>& textures,
                        const ColourPipeline& colour, BrdfModel brdf) {
   Material m;
@@ -209,6 +229,11 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
   }
   m.transmission = std::clamp(d.transmission, 0.0f, 1.0f);
   m.ior = d.ior >= 1.0f ? d.ior : 1.5f;
+  m.thin_walled = !(d.thickness > 0.0f);
+  if (!m.thin_walled) {
+    m.absorption = absorption_coefficient(to_rgb(colour.from_linear_rec709(d.attenuation_colour)),
+                                          d.attenuation_distance);
+  }
   m.specular = std::clamp(d.specular, 0.0f, 1.0f);
   m.specular_colour = to_rgb(colour.from_linear_rec709(d.specular_colour));
   m.clearcoat = std::clamp(d.clearcoat, 0.0f, 1.0f);
@@ -296,6 +321,7 @@ SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
   if (material.clearcoat > 0.0f || material.sheen_colour.x > 0.0f ||
       material.sheen_colour.y > 0.0f || material.sheen_colour.z > 0.0f)
     lobes.layers = layers_of(material, hit, read);
+  lobes.thin_walled = material.thin_walled;
   SurfaceResponse r;
   r.bsdf = Bsdf(material.normal_texture.texture
                     ? bend_normal(hit, read.sample(material.normal_texture), material.normal_scale)

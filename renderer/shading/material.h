@@ -60,6 +60,11 @@ struct Material {
   Imath::M33f rec709_to_working;
   float transmission = 0.0f;
   float ior = 1.5f;
+  // KHR_materials_volume: without it (or at thickness 0) the transmissive part is thin-walled;
+  // with it, light travelling inside the object's volume keeps exp(-sigma_a distance), per
+  // channel, sigma_a = -ln(attenuationColor) / attenuationDistance (0 when nothing absorbs).
+  bool thin_walled = true;
+  Rgb absorption{0.0f, 0.0f, 0.0f};
   float specular = 1.0f;  // KHR_materials_specular
   Rgb specular_colour{1.0f, 1.0f, 1.0f};
   // KHR_materials_clearcoat and KHR_materials_sheen (docs/materials.md, "Clearcoat and sheen").
@@ -110,5 +115,13 @@ float phong_exponent_from_roughness(float roughness);
 
 // Reflectance at normal incidence of a dielectric with index of refraction `ior` in air.
 float dielectric_f0(float ior);
+
+// The absorption coefficient sigma_a = -ln(colour) / distance per channel (infinite for a
+// colour of 0, 0 for an infinite distance).
+Rgb absorption_coefficient(const Rgb& attenuation_colour, float attenuation_distance);
+
+// What a path keeps of its throughput after `distance` through absorption `sigma_a`:
+// exp(-sigma_a distance) per channel (1 over no distance, whatever sigma_a).
+Rgb transmittance(const Rgb& sigma_a, float distance);
 
 }  // namespace prism
