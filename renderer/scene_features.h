@@ -64,7 +64,8 @@ struct SceneFeatures {
   LightKinds lights = LightKinds::none;
   TexturedSlots textures = TexturedSlots::none;
   // Some used material has roughness <= kMirrorRoughness somewhere (factor times the
-  // metallic-roughness texture's smallest green value): whitted traces mirror rays.
+  // metallic-roughness texture's smallest green value), or a clearcoat that smooth (any
+  // with a clearcoat roughness texture): whitted traces mirror rays.
   bool mirror = false;
   // Some used material refracts: transmission > 0 and not wholly metallic.
   bool transmission = false;

@@ -189,11 +189,18 @@ TEST(ClearcoatSheen, PdfIntegratesToAtMostOne) {
 }
 
 TEST(ClearcoatSheen, EvalIsReciprocal) {
+  // The layers' own terms are symmetric to the bit (sums ordered alike, V.H and L.H
+  // averaged); a base with a GGX lobe brings its own float asymmetry, Schlick's weight at
+  // V.H (tests/bsdf_test.cpp, GgxIsReciprocal), measured here on the base alone too.
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  double worst = 0.0;
+  double worst_layers = 0.0, worst_with_ggx = 0.0, worst_base = 0.0;
   for (const Case& c : layered_cases()) {
     const Bsdf bsdf = Bsdf(kNormal, c.lobes).path_traced();
+    BsdfLobes base_lobes = c.lobes;
+    base_lobes.layers = SurfaceLayers{};
+    const Bsdf base_alone(kNormal, base_lobes);
+    const bool ggx_base = c.lobes.specular_f90 != V3f(0.0f);
     for (int i = 0; i < 2000; ++i) {
       const V3f wo = testing::DirectionGrid::direction(u01(rng), 2 * kPiD * u01(rng));
       // Half the pairs near the mirror direction, where the sharp coat has its peak.
@@ -203,14 +210,22 @@ TEST(ClearcoatSheen, EvalIsReciprocal) {
         if (wi.z <= 0.0f) continue;
       }
       const V3f a = bsdf.eval(wo, wi), b = bsdf.eval(wi, wo);
+      const V3f base_a = base_alone.eval(wo, wi), base_b = base_alone.eval(wi, wo);
       for (int k = 0; k < 3; ++k) {
         const double rel = std::fabs(a[k] - b[k]) / std::max(1.0f, std::fabs(a[k]));
-        worst = std::max(worst, rel);
-        EXPECT_LE(rel, 1e-5) << c.name << " " << a[k] << " " << b[k];
+        const double base_rel =
+            std::fabs(base_a[k] - base_b[k]) / std::max(1.0f, std::fabs(base_a[k]));
+        worst_base = std::max(worst_base, base_rel);
+        (ggx_base ? worst_with_ggx : worst_layers) =
+            std::max(ggx_base ? worst_with_ggx : worst_layers, rel);
+        EXPECT_LE(rel, ggx_base ? 1e-4 : 1e-6) << c.name << " " << a[k] << " " << b[k];
       }
     }
   }
-  std::printf("clearcoat/sheen reciprocity: worst relative difference %.3g\n", worst);
+  std::printf(
+      "clearcoat/sheen reciprocity: worst relative difference %.3g over a Lambert or "
+      "black base, %.3g over a GGX base (the base alone: %.3g)\n",
+      worst_layers, worst_with_ggx, worst_base);
 }
 
 struct Estimate {
@@ -260,7 +275,13 @@ TEST(ClearcoatSheen, WhiteFurnaceNeverExceedsOne) {
       (smooth_sheen ? highest_smooth_sheen : highest) =
           std::max(smooth_sheen ? highest_smooth_sheen : highest, e.mean);
       EXPECT_LE(e.mean, (smooth_sheen ? 1.02 : 1.0) + 4.0 * e.error) << c.name << " cos " << cos_v;
-      EXPECT_GT(e.mean, 0.5) << c.name << " cos " << cos_v;  // the light goes somewhere
+      // At least the coat's own albedo, at most the tabulated albedo of the stack (which
+      // weighs the base by the view's transmittance alone, an upper bound of the symmetric one).
+      const V3f wo = view_at(cos_v);
+      const double coat_alone = c.lobes.layers.coat_albedo(wo, kNormal);
+      const double table = bsdf.albedo(wo, kNormal, false, AlbedoScope::all_lobes).x;
+      EXPECT_GE(e.mean, coat_alone - 4.0 * e.error) << c.name << " cos " << cos_v;
+      EXPECT_LE(e.mean, table + 4.0 * e.error + 5e-3) << c.name << " cos " << cos_v;
     }
   std::printf("furnace: highest albedo %.5f; with sheen roughness 0.1 %.5f\n", highest,
               highest_smooth_sheen);
@@ -312,7 +333,7 @@ TEST(ClearcoatSheen, SheenAlbedoTableMatchesItsIntegral) {
         EXPECT_NEAR(table, exact, r < 0.3f ? 1e-2 : 5e-3) << r << " " << cos_v;
       }
       if (r >= 0.3f) {
-        EXPECT_LT(exact, 0.9);
+        EXPECT_LT(exact, 1.0);
         const Bsdf bsdf = Bsdf(kNormal, sheened(base(false), V3f(1.0f), r)).path_traced();
         const Estimate e = monte_carlo_albedo(bsdf, view_at(cos_v), 200000, 41);
         std::printf(
