@@ -134,6 +134,27 @@ TEST(RoughDielectric, ThinWalledAndMixedSamplingMatchPdf) {
     }
 }
 
+// Rough glass under a clearcoat and a sheen (clearcoat_sheen.h): the layers take their share
+// of the choice above the surface, and below it the transmitted light is still picked within
+// the base's share, so the density over the whole sphere is still what sample() draws.
+TEST(RoughDielectric, CoatedAndSheenedGlassSamplingMatchesPdf) {
+  for (float alpha : {0.1f, 0.5f})
+    for (float cos_o : {0.9f, 0.3f}) {
+      SCOPED_TRACE(::testing::Message() << "alpha " << alpha << " cos " << cos_o);
+      BsdfLobes lobes = glass_lobes(alpha);
+      lobes.layers.clearcoat = 0.8f;
+      lobes.layers.clearcoat_alpha = 0.09f;
+      lobes.layers.sheen_colour = V3f(0.3f, 0.2f, 0.1f);
+      lobes.layers.sheen_alpha = 0.25f;
+      const Bsdf bsdf = Bsdf(V3f(0, 0, 1), lobes).path_traced();
+      const Histogram h = histogram(bsdf, view(cos_o), 300000, alpha < 0.2f ? 48 : 24);
+      EXPECT_GT(h.p_value, 1e-3);
+      EXPECT_LE(h.pdf_integral, 1.0 + 2e-3);
+      EXPECT_NEAR(h.pdf_integral, h.accepted, 5e-3);
+      EXPECT_GT(h.transmitted, 0.2);  // the glass still passes light under the layers
+    }
+}
+
 // The test has teeth: the same samples against the density of another roughness fail.
 TEST(RoughDielectric, ChiSquareRejectsAnotherRoughness) {
   const Bsdf sampled = Bsdf(V3f(0, 0, 1), glass_lobes(0.3f)).path_traced();

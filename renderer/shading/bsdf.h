@@ -245,6 +245,16 @@ class Bsdf {
       const int count = base_specular_lobes<false, true>(wo, n, back_face, lobes);
       for (int i = 0; i < count; ++i) total += lobes[i].weight();
     }
+    // The rough dielectric's albedo, estimated by the smooth one's (it loses a little to
+    // single scattering): what the layers' choice weighs the base by.
+    if (lobes_.rough_transmission) {
+      const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
+      const float eta = back_face ? 1.0f / lobes_.ior : lobes_.ior;
+      const float fresnel = fresnel_dielectric(cos_i, eta);
+      total +=
+          (Imath::V3f(fresnel) + transmission_weight() / lobes_.transmission * (1.0f - fresnel)) *
+          lobes_.transmission;
+    }
     return total;
   }
 
@@ -258,7 +268,12 @@ class Bsdf {
         c.dielectric > 0.0f
             ? c.dielectric * rough_dielectric().pdf(to_local(wo, n), to_local(wi, n))
             : 0.0f;
-    if (cos_wi <= 0.0f) return dielectric;
+    if (cos_wi <= 0.0f) {
+      // Only the rough dielectric reaches below; sample() picks it within the base's share.
+      if (!layered_ || dielectric == 0.0f) return dielectric;
+      const SurfaceLayers::Shares l = layer_shares(wo, n, coat_normal(n));
+      return dielectric * (1.0f - l.coat - l.sheen);
+    }
     float density = c.diffuse * cos_wi * kInvPi;
     if (c.glossy > 0.0f) density += c.glossy * glossy_pdf(wo, wi, n);
     density += dielectric;
