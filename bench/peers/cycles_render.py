@@ -57,7 +57,24 @@ def make_lambertian():
             material.node_tree.links.new(base.links[0].from_socket, diffuse.inputs["Color"])
         else:
             diffuse.inputs["Color"].default_value = base.default_value
-        material.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
+        surface = diffuse.outputs["BSDF"]
+        # Keep an emissive material's light (the Cornell box's ceiling panel).
+        emission_colour = principled.inputs["Emission"]
+        strength = principled.inputs["Emission Strength"].default_value
+        if emission_colour.is_linked or (strength > 0 and
+                                         any(emission_colour.default_value[:3])):
+            emission = nodes.new("ShaderNodeEmission")
+            if emission_colour.is_linked:
+                material.node_tree.links.new(emission_colour.links[0].from_socket,
+                                             emission.inputs["Color"])
+            else:
+                emission.inputs["Color"].default_value = emission_colour.default_value
+            emission.inputs["Strength"].default_value = strength
+            add = nodes.new("ShaderNodeAddShader")
+            material.node_tree.links.new(surface, add.inputs[0])
+            material.node_tree.links.new(emission.outputs["Emission"], add.inputs[1])
+            surface = add.outputs["Shader"]
+        material.node_tree.links.new(surface, output.inputs["Surface"])
 
 
 def set_up_direct_light_render(scene, output, width, height, spp, threads, seed):
