@@ -16,7 +16,11 @@ Scenes, each one .glb (or .gltf) read by both renderers:
   blob written here with NumPy and OpenImageIO.
 - asset: assimp-testmodels' BoxTextured.glb (base-colour PNG texture) with a camera added and
   the sampler's minFilter set to LINEAR (Cycles does not mip-map), under the same sky.
-The two env-lit files hold one directional light of intensity 0, so that neither renderer
+- asset_lambert (a control): the same file with specularFactor 0 (glTF's BRDF is then
+  exactly rho/pi), against Cycles with Diffuse BSDFs.
+- furnace (a smaller experiment, with --scenes furnace): the sweep with base colour 1
+  under a uniform map of radiance 1 (OUT/uniform.exr).
+The env-lit files hold one directional light of intensity 0, so that neither renderer
 adds its default key light to a scene without lights.
 
 Cycles (bench/peers/cycles_render.py --max-bounces B): B = max-depth - 1 bounces (Cycles'
@@ -178,9 +182,18 @@ def uv_sphere(radius, rings=48, segments=96):
         numpy.array(index, dtype=numpy.uint32)
 
 
-def write_sweep(path, width, height):
+def write_uniform(path):
+    """A map of radiance 1 everywhere (a furnace)."""
+    buf = oiio.ImageBuf(oiio.ImageSpec(64, 32, 3, oiio.FLOAT))
+    buf.set_pixels(oiio.ROI(), numpy.ones((32, 64, 3), dtype=numpy.float32))
+    if not buf.write(path):
+        sys.exit("cannot write %s: %s" % (path, buf.geterror()))
+
+
+def write_sweep(path, width, height, white=False):
     """Ten spheres, radius 0.8, 1.9 apart: roughness across, metallic 0 (grey 0.5) on top,
-    metallic 1 (gold-like base colour) below; camera 14 m away on +Z."""
+    metallic 1 (gold-like base colour) below; camera 14 m away on +Z. `white`: base colour 1
+    for all (the furnace scene: a white metal's Fresnel is 1 in both renderers)."""
     positions, normals, indices = uv_sphere(0.8)
     binary = b""
     views = []
@@ -199,6 +212,8 @@ def write_sweep(path, width, height):
     for row, metallic in enumerate((0.0, 1.0)):
         for column, roughness in enumerate(SWEEP_ROUGHNESS):
             colour = [0.5, 0.5, 0.5, 1.0] if metallic == 0 else [1.0, 0.78, 0.34, 1.0]
+            if white:
+                colour = [1.0, 1.0, 1.0, 1.0]
             root["materials"].append({"name": "m%g r%g" % (metallic, roughness),
                                       "pbrMetallicRoughness": {
                                           "baseColorFactor": colour,
@@ -217,8 +232,15 @@ def write_sweep(path, width, height):
     write_glb(path, root, binary)
 
 
-def write_asset(path, width, height):
+def write_asset(path, width, height, lambert=False):
+    """`lambert`: specularFactor 0 on the material as well (exactly rho/pi in glTF, the
+    control against Cycles' Diffuse BSDF)."""
     root, binary = read_glb(BOX_TEXTURED)
+    if lambert:
+        root.setdefault("extensionsUsed", []).append("KHR_materials_specular")
+        for material in root["materials"]:
+            material.setdefault("extensions", {})["KHR_materials_specular"] = {
+                "specularFactor": 0.0}
     for sampler in root.get("samplers", []):
         sampler["minFilter"] = 9729  # LINEAR: Cycles filters the full image only
     add_camera(root, (1.9, 1.5, 2.5), (0.0, -0.05, 0.0), 0.6, width / height)
@@ -252,6 +274,23 @@ def compare(prism, cycles):
             "covered_pixels": int(covered.sum())}
 
 
+def sphere_ratios(prism, cycles):
+    """For the sweep and furnace scenes: each sphere's mean luminance, Prism / Cycles, over a
+    disc of 0.8 times its projected radius (silhouettes left out)."""
+    h, w = cycles.shape[:2]
+    scale = (h / 2) / (14.0 * math.tan(0.2))  # pixels per metre at the spheres' plane
+    yy, xx = numpy.mgrid[0:h, 0:w] + 0.5
+    yp, yc = luminance(prism), luminance(cycles)
+    ratios = {}
+    for row, metallic in enumerate((0, 1)):
+        for column, roughness in enumerate(SWEEP_ROUGHNESS):
+            cx, cy = w / 2 + 1.9 * (column - 2) * scale, h / 2 - (1.0 - 2.0 * row) * scale
+            disc = (xx - cx) ** 2 + (yy - cy) ** 2 < (0.8 * 0.8 * scale) ** 2
+            ratios["metallic %d roughness %g" % (metallic, roughness)] = \
+                float(yp[disc].mean() / yc[disc].mean())
+    return ratios
+
+
 def side_by_side(path, cycles, prism):
     yp, yc = luminance(prism), luminance(cycles)
     relative = (yp - yc) / (yc + EPSILON)
@@ -278,6 +317,9 @@ def main():
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--scenes", default="cornell,sweep,asset")
     parser.add_argument("--images", default=os.path.join(ROOT, "docs/images"))
+    parser.add_argument("--noise", action="store_true",
+                        help="also render Cycles with seed 1: the metric between the two "
+                             "Cycles seeds is the noise floor at that spp")
     parser.add_argument("--skip-blender", action="store_true",
                         help="reuse the Cycles renders already in --out")
     args = parser.parse_args()
@@ -286,10 +328,14 @@ def main():
     prism = find_prism()
     sky = os.path.join(out, "sky.exr")
     write_sky(sky)
+    uniform = os.path.join(out, "uniform.exr")
+    write_uniform(uniform)
 
     scenes = {"cornell": (os.path.join(ROOT, "scenes/cornell.gltf"), "200x200", None),
               "sweep": (os.path.join(out, "sweep.glb"), "320x192", sky),
-              "asset": (os.path.join(out, "asset.glb"), "240x240", sky)}
+              "asset": (os.path.join(out, "asset.glb"), "240x240", sky),
+              "asset_lambert": (os.path.join(out, "asset_lambert.glb"), "240x240", sky),
+              "furnace": (os.path.join(out, "furnace.glb"), "320x192", uniform)}
     results = {}
     path = os.path.join(out, "results.json")
     if os.path.exists(path):
@@ -299,9 +345,16 @@ def main():
         width, height = (int(v) for v in res.split("x"))
         if name == "sweep":
             write_sweep(glb, width, height)
-        elif name == "asset":
-            write_asset(glb, width, height)
-        variants = [("", [])] + ([("lambert", ["--lambert"])] if name == "cornell" else [])
+        elif name == "furnace":
+            write_sweep(glb, width, height, white=True)
+        elif name in ("asset", "asset_lambert"):
+            write_asset(glb, width, height, lambert=name == "asset_lambert")
+        variants = [("", [])] if name != "asset_lambert" else []
+        if name in ("cornell", "asset_lambert"):
+            variants.append(("lambert", ["--lambert"]))
+        if args.noise:
+            variants += [(v + "_seed1" if v else "seed1", e + ["--seed", "1"])
+                         for v, e in variants]
         cycles = {}
         for variant, extra in variants:
             exr = os.path.join(out, "cycles_%s%s.exr" % (name, "_" + variant if variant else ""))
@@ -329,9 +382,26 @@ def main():
         for variant, (reference, cycles_seconds) in cycles.items():
             key = name + (" vs Cycles " + variant if variant else "")
             s = compare(image, reference)
+            if "seed1" in variant:
+                seed0 = cycles[variant.replace("_seed1", "").replace("seed1", "")][0]
+                floor = reference.copy()
+                floor[..., 3] = image[..., 3]  # Prism's coverage for the covered mask
+                s["cycles_seed1_vs_seed0"] = compare(floor, seed0)
             s.update({"prism_seconds_wall": prism_seconds, "cycles_render_seconds": cycles_seconds,
                       "prism_spp": args.prism_spp, "cycles_spp": args.cycles_spp,
                       "max_depth": args.max_depth, "res": res})
+            if name in ("sweep", "furnace"):
+                s["sphere_ratio_prism_over_cycles"] = sphere_ratios(image, reference)
+                print("  per sphere, Prism / Cycles mean luminance: " + ", ".join(
+                    "%s %.4f" % (k.replace("metallic ", "m").replace(" roughness ", " r"), v)
+                    for k, v in s["sphere_ratio_prism_over_cycles"].items()))
+            if "cycles_seed1_vs_seed0" in s:
+                n = s["cycles_seed1_vs_seed0"]
+                print("  noise floor, Cycles seed 1 vs seed 0: mean rel %.2f%% (covered %.2f%%), "
+                      "4x4 %.2f%% (covered %.2f%%), image mean %+.2f%%" %
+                      (100 * n["mean_rel_all"], 100 * n["mean_rel_covered"],
+                       100 * n["mean_rel_4x4_all"], 100 * n["mean_rel_4x4_covered"],
+                       100 * n["image_mean_diff"]))
             results[key] = s
             print("%-24s mean rel %.2f%% (covered %s), 4x4 %.2f%% (covered %s), image mean "
                   "%+.2f%%, Prism %.1f s / Cycles %.1f s" %
