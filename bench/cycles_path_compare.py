@@ -4,7 +4,9 @@
 
     /usr/bin/python3 bench/cycles_path_compare.py [--out /tmp/cycles-path] [--max-depth 8]
         [--cycles-spp 512] [--prism-spp 512] [--scenes cornell,sweep,asset]
-        [--images docs/images] [--skip-blender]
+        [--images docs/images] [--skip-blender] [--noise]
+    /usr/bin/python3 bench/cycles_path_compare.py --equal-error [--scenes cornell]
+        [--equal-error-res 100x100] [--reference-spp 4096] [--test-spp 128]
 
 Scenes, each one .glb (or .gltf) read by both renderers:
 - cornell: scenes/cornell.gltf, lit by its emissive ceiling panel only, black world. Its
@@ -308,6 +310,55 @@ def side_by_side(path, cycles, prism):
     write_png(path, numpy.concatenate([srgb(cycles), gap, srgb(prism), gap, heat], axis=1))
 
 
+def rel_mse(image, reference):
+    """prism diff's relMSE (docs/metrics.md): mean over pixels and RGB of
+    (a - b)^2 / (b^2 + 0.01)."""
+    a, b = image[..., :3], reference[..., :3]
+    return float(numpy.mean((a - b) ** 2 / (b * b + 0.01)))
+
+
+def equal_error(args, prism, out, name, glb, environment, extra, results):
+    """Each renderer against its own high-spp reference, at --equal-error-res: relMSE at
+    --test-spp and the render time. relMSE falls as 1/time for an unbiased renderer, so
+    the time to equal error is proportional to relMSE * time; the ratio of the two is
+    Prism time / Cycles time at equal error."""
+    res = args.equal_error_res
+    figures = {}
+    for spp in (args.reference_spp, args.test_spp):
+        exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, spp))
+        cmd = ["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+               CYCLES_SCRIPT, "--", glb, exr, "--res", res, "--spp", str(spp), "--threads",
+               str(args.threads), "--max-bounces", str(args.max_depth - 1), "--no-key-light",
+               "--seed", "7" if spp == args.reference_spp else "0"] + extra
+        if environment:
+            cmd += ["--environment", environment]
+        text, _ = run(cmd, exr + ".log")
+        seconds = float(next(l.split()[1] for l in text.splitlines()
+                             if l.startswith("PEER_RENDER_TIME")))
+        figures[("cycles", spp)] = (read_rgba(exr), seconds)
+        exr = os.path.join(out, "ee_prism_%s_%d.exr" % (name, spp))
+        cmd = [prism, "render", glb, "-o", exr, "--integrator", "path", "--spp", str(spp),
+               "--max-depth", str(args.max_depth), "--res", res, "--threads",
+               str(args.threads), "--quiet"]
+        if environment:
+            cmd += ["--environment", environment]
+        _, seconds = run(cmd, exr + ".log")
+        figures[("prism", spp)] = (read_rgba(exr), seconds)
+    row = {"res": res, "test_spp": args.test_spp, "reference_spp": args.reference_spp}
+    for who in ("prism", "cycles"):
+        image, seconds = figures[(who, args.test_spp)]
+        row[who + "_rel_mse"] = rel_mse(image, figures[(who, args.reference_spp)][0])
+        row[who + "_seconds"] = seconds
+    row["time_to_equal_error_prism_over_cycles"] = (
+        row["prism_rel_mse"] * row["prism_seconds"]) / (row["cycles_rel_mse"] * row["cycles_seconds"])
+    print("%s equal error at %s, %d spp against %d spp of each: Prism relMSE %.4g in %.2f s, "
+          "Cycles relMSE %.4g in %.2f s: Prism time / Cycles time = %.3f" %
+          (name, res, args.test_spp, args.reference_spp, row["prism_rel_mse"],
+           row["prism_seconds"], row["cycles_rel_mse"], row["cycles_seconds"],
+           row["time_to_equal_error_prism_over_cycles"]))
+    results[name + " equal error"] = row
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default="/tmp/cycles-path")
@@ -320,6 +371,12 @@ def main():
     parser.add_argument("--noise", action="store_true",
                         help="also render Cycles with seed 1: the metric between the two "
                              "Cycles seeds is the noise floor at that spp")
+    parser.add_argument("--equal-error", action="store_true",
+                        help="only the time-to-equal-error runs (Cornell with Cycles' Diffuse "
+                             "BSDFs) at --equal-error-res")
+    parser.add_argument("--equal-error-res", default="100x100")
+    parser.add_argument("--reference-spp", type=int, default=4096)
+    parser.add_argument("--test-spp", type=int, default=128)
     parser.add_argument("--skip-blender", action="store_true",
                         help="reuse the Cycles renders already in --out")
     args = parser.parse_args()
@@ -343,6 +400,16 @@ def main():
     for name in args.scenes.split(","):
         glb, res, environment = scenes[name]
         width, height = (int(v) for v in res.split("x"))
+        if args.equal_error:
+            if name == "sweep":
+                write_sweep(glb, width, height)
+            elif name in ("asset", "asset_lambert"):
+                write_asset(glb, width, height, lambert=name == "asset_lambert")
+            extra = ["--lambert"] if name in ("cornell", "asset_lambert") else []
+            equal_error(args, prism, out, name, glb, environment, extra, results)
+            with open(path, "w") as f:
+                json.dump(results, f, indent=1)
+            continue
         if name == "sweep":
             write_sweep(glb, width, height)
         elif name == "furnace":
