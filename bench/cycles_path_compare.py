@@ -457,6 +457,15 @@ def main():
             s.update({"prism_seconds_wall": prism_seconds, "cycles_render_seconds": cycles_seconds,
                       "prism_spp": args.prism_spp, "cycles_spp": args.cycles_spp,
                       "max_depth": args.max_depth, "res": res})
+            results[key] = s
+            print("%-24s mean rel %.2f%% (covered %s), 4x4 %.2f%% (covered %s), image mean "
+                  "%+.2f%%, Prism %.1f s / Cycles %.1f s" %
+                  (key, 100 * s["mean_rel_all"],
+                   "-" if s["mean_rel_covered"] is None else "%.2f%%" % (100 * s["mean_rel_covered"]),
+                   100 * s["mean_rel_4x4_all"],
+                   "-" if s["mean_rel_4x4_covered"] is None
+                   else "%.2f%%" % (100 * s["mean_rel_4x4_covered"]),
+                   100 * s["image_mean_diff"], prism_seconds, cycles_seconds))
             if name in ("sweep", "furnace"):
                 s["sphere_ratio_prism_over_cycles"] = sphere_ratios(image, reference)
                 print("  per sphere, Prism / Cycles mean luminance: " + ", ".join(
@@ -469,16 +478,8 @@ def main():
                       (100 * n["mean_rel_all"], 100 * n["mean_rel_covered"],
                        100 * n["mean_rel_4x4_all"], 100 * n["mean_rel_4x4_covered"],
                        100 * n["image_mean_diff"]))
-            results[key] = s
-            print("%-24s mean rel %.2f%% (covered %s), 4x4 %.2f%% (covered %s), image mean "
-                  "%+.2f%%, Prism %.1f s / Cycles %.1f s" %
-                  (key, 100 * s["mean_rel_all"],
-                   "-" if s["mean_rel_covered"] is None else "%.2f%%" % (100 * s["mean_rel_covered"]),
-                   100 * s["mean_rel_4x4_all"],
-                   "-" if s["mean_rel_4x4_covered"] is None
-                   else "%.2f%%" % (100 * s["mean_rel_4x4_covered"]),
-                   100 * s["image_mean_diff"], prism_seconds, cycles_seconds))
-            for d in [out] + ([os.path.abspath(args.images)] if args.images else []):
+            for d in [out] + ([os.path.abspath(args.images)]
+                              if args.images and "seed1" not in variant else []):
                 os.makedirs(d, exist_ok=True)
                 side_by_side(os.path.join(d, "cycles-path-%s%s.png" %
                                           (name, "-" + variant if variant else "")),
