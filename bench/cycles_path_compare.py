@@ -6,7 +6,7 @@
         [--cycles-spp 512] [--prism-spp 512] [--scenes cornell,sweep,asset]
         [--images docs/images] [--skip-blender] [--noise]
     /usr/bin/python3 bench/cycles_path_compare.py --equal-error [--scenes cornell]
-        [--equal-error-res 100x100] [--reference-spp 4096] [--test-spp 128]
+        [--equal-error-res WxH] [--reference-spp 4096] [--test-spp 128]
 
 Scenes, each one .glb (or .gltf) read by both renderers:
 - cornell: scenes/cornell.gltf, lit by its emissive ceiling panel only, black world. Its
@@ -317,12 +317,11 @@ def rel_mse(image, reference):
     return float(numpy.mean((a - b) ** 2 / (b * b + 0.01)))
 
 
-def equal_error(args, prism, out, name, glb, environment, extra, results):
-    """Each renderer against its own high-spp reference, at --equal-error-res: relMSE at
+def equal_error(args, prism, out, name, glb, environment, extra, results, res):
+    """Each renderer against its own high-spp reference, at `res`: relMSE at
     --test-spp and the render time. relMSE falls as 1/time for an unbiased renderer, so
     the time to equal error is proportional to relMSE * time; the ratio of the two is
     Prism time / Cycles time at equal error."""
-    res = args.equal_error_res
     figures = {}
     for spp in (args.reference_spp, args.test_spp):
         exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, spp))
@@ -374,7 +373,8 @@ def main():
     parser.add_argument("--equal-error", action="store_true",
                         help="only the time-to-equal-error runs (Cornell with Cycles' Diffuse "
                              "BSDFs) at --equal-error-res")
-    parser.add_argument("--equal-error-res", default="100x100")
+    parser.add_argument("--equal-error-res", default="",
+                        help="default: half the scene's resolution each way")
     parser.add_argument("--reference-spp", type=int, default=4096)
     parser.add_argument("--test-spp", type=int, default=128)
     parser.add_argument("--skip-blender", action="store_true",
@@ -406,7 +406,8 @@ def main():
             elif name in ("asset", "asset_lambert"):
                 write_asset(glb, width, height, lambert=name == "asset_lambert")
             extra = ["--lambert"] if name in ("cornell", "asset_lambert") else []
-            equal_error(args, prism, out, name, glb, environment, extra, results)
+            equal_error(args, prism, out, name, glb, environment, extra, results,
+                        args.equal_error_res or "%dx%d" % (width // 2, height // 2))
             with open(path, "w") as f:
                 json.dump(results, f, indent=1)
             continue
