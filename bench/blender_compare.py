@@ -268,4 +268,5 @@ def main():
           (out, " and previews in " + args.images if args.images else ""))
 
 
-main()
+if __name__ == "__main__":  # also imported by cycles_path_compare.py for its helpers
+    main()

@@ -1,7 +1,14 @@
-"""Renders a glTF scene with Blender Cycles, direct light only, for bench/peers/.
+"""Renders a glTF scene with Blender Cycles, direct light only, for bench/peers/, or path
+traced for bench/cycles_path_compare.py.
 
     blender -b --factory-startup --python-exit-code 1 --python bench/peers/cycles_render.py \
-        -- SCENE.glb|gltf OUT.exr --res WxH --spp N [--threads 2] [--seed 0]
+        -- SCENE.glb|gltf OUT.exr --res WxH --spp N [--threads 2] [--seed 0] [--lambert]
+        [--max-bounces B [--environment MAP.exr] [--environment-strength K] [--no-key-light]]
+
+--max-bounces B renders with path tracing instead (set_up_path_render): B bounces after
+the first hit, i.e. Prism's `path --max-depth B+1` (Cycles' max_bounces 0 is direct light
+only, Prism's max-depth 1). Its world is MAP.exr (equirectangular, closest-texel lookup as
+Prism's, linear) times K, or black; every Principled BSDF is set to single-scattering 'GGX'.
 
 What it sets up, so that Cycles sees what Prism's `shadow` integrator sees:
 - an empty scene (the factory startup cube, camera and lamp are removed) and a black world;
@@ -50,7 +57,24 @@ def make_lambertian():
             material.node_tree.links.new(base.links[0].from_socket, diffuse.inputs["Color"])
         else:
             diffuse.inputs["Color"].default_value = base.default_value
-        material.node_tree.links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
+        surface = diffuse.outputs["BSDF"]
+        # Keep an emissive material's light (the Cornell box's ceiling panel).
+        emission_colour = principled.inputs["Emission"]
+        strength = principled.inputs["Emission Strength"].default_value
+        if emission_colour.is_linked or (strength > 0 and
+                                         any(emission_colour.default_value[:3])):
+            emission = nodes.new("ShaderNodeEmission")
+            if emission_colour.is_linked:
+                material.node_tree.links.new(emission_colour.links[0].from_socket,
+                                             emission.inputs["Color"])
+            else:
+                emission.inputs["Color"].default_value = emission_colour.default_value
+            emission.inputs["Strength"].default_value = strength
+            add = nodes.new("ShaderNodeAddShader")
+            material.node_tree.links.new(surface, add.inputs[0])
+            material.node_tree.links.new(emission.outputs["Emission"], add.inputs[1])
+            surface = add.outputs["Shader"]
+        material.node_tree.links.new(surface, output.inputs["Surface"])
 
 
 def set_up_direct_light_render(scene, output, width, height, spp, threads, seed):
@@ -98,6 +122,44 @@ def set_up_direct_light_render(scene, output, width, height, spp, threads, seed)
     scene.render.use_file_extension = False
 
 
+def set_up_path_render(scene, max_bounces, environment, strength):
+    """Path tracing with `max_bounces` bounces of every kind, nothing biased away: no glossy
+    filter, no clamping, caustics on, no light threshold, no light tree; single-scattering
+    GGX on every Principled BSDF (Multiscatter GGX adds energy glTF's BRDF does not have);
+    the world is `environment` (or black). Call after set_up_direct_light_render."""
+    cycles = scene.cycles
+    cycles.max_bounces = max_bounces
+    cycles.diffuse_bounces = cycles.glossy_bounces = max_bounces
+    cycles.transmission_bounces = cycles.transparent_max_bounces = max_bounces
+    cycles.volume_bounces = 0
+    cycles.min_light_bounces = cycles.min_transparent_bounces = 0
+    cycles.caustics_reflective = cycles.caustics_refractive = True
+    cycles.blur_glossy = 0.0  # "Filter Glossy" in the UI
+    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
+    cycles.light_sampling_threshold = 0.0
+    if hasattr(cycles, "use_light_tree"):  # Blender 3.5 on; 3.4 has none
+        cycles.use_light_tree = False
+    for material in bpy.data.materials:
+        if material.use_nodes:
+            for node in material.node_tree.nodes:
+                if node.type == "BSDF_PRINCIPLED":
+                    node.distribution = "GGX"
+    if environment:
+        world = scene.world
+        nodes, links = world.node_tree.nodes, world.node_tree.links
+        texture = nodes.new("ShaderNodeTexEnvironment")
+        texture.image = bpy.data.images.load(environment)
+        texture.image.colorspace_settings.name = "Linear"
+        texture.interpolation = "Closest"
+        texture.projection = "EQUIRECTANGULAR"
+        background = nodes["Background"]
+        links.new(texture.outputs["Color"], background.inputs["Color"])
+        background.inputs["Strength"].default_value = strength
+        world.cycles.sampling_method = "MANUAL"
+        # Importance-sample the map at its own resolution (Prism samples texels exactly).
+        world.cycles.sample_map_resolution = max(texture.image.size[0], 64)
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(prog="cycles_render.py")
@@ -110,6 +172,13 @@ def main():
     parser.add_argument("--lambert", action="store_true",
                         help="replace every material by a Diffuse BSDF (Lambert) of its base "
                              "colour: isolates the light units from the Principled BSDF")
+    parser.add_argument("--max-bounces", type=int, default=None,
+                        help="path trace with this many bounces (Prism's max-depth - 1)")
+    parser.add_argument("--environment", default="",
+                        help="with --max-bounces: an equirectangular map as the world")
+    parser.add_argument("--environment-strength", type=float, default=1.0)
+    parser.add_argument("--no-key-light", action="store_true",
+                        help="do not add Prism's default key light to a scene without lights")
     args = parser.parse_args(argv)
     width, height = (int(v) for v in args.res.lower().split("x"))
 
@@ -131,7 +200,7 @@ def main():
     for light in lights:
         if light.data.type in ("POINT", "SPOT"):
             light.data.shadow_soft_size = 0.0
-    if not lights:
+    if not lights and not args.no_key_light:
         m = scene.camera.matrix_world
         right = m.col[0].xyz.normalized()
         up = m.col[1].xyz.normalized()
@@ -150,6 +219,9 @@ def main():
 
     set_up_direct_light_render(scene, args.output, width, height, args.spp, args.threads,
                                args.seed)
+    if args.max_bounces is not None:
+        set_up_path_render(scene, args.max_bounces, args.environment,
+                           args.environment_strength)
 
     start = time.perf_counter()
     bpy.ops.render.render(write_still=True)
