@@ -1,6 +1,8 @@
 """What the bench/ scripts share: the source root and the prism binary they run."""
 import os
+import subprocess
 import sys
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -14,3 +16,16 @@ def find_prism(script):
         if os.path.exists(p):
             return p
     sys.exit(f"{script}: no prism binary (build it, or set $PRISM)")
+
+
+def run_logged(cmd, log):
+    """Runs `cmd`, keeping its command line and output in the file `log`; exits with its
+    output's tail if it fails. Returns (output, wall seconds)."""
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    seconds = time.perf_counter() - start
+    with open(log, "w") as f:
+        f.write(" ".join(cmd) + "\n" + proc.stdout)
+    if proc.returncode != 0:
+        sys.exit("failed (%d): %s\n%s" % (proc.returncode, " ".join(cmd), proc.stdout[-3000:]))
+    return proc.stdout, seconds

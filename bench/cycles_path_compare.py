@@ -43,7 +43,6 @@ import json
 import math
 import os
 import struct
-import subprocess
 import sys
 import time
 
@@ -51,6 +50,7 @@ import numpy
 import OpenImageIO as oiio
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from benchlib import run_logged  # noqa: E402
 from blender_compare import find_prism, write_png  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -63,15 +63,9 @@ SWEEP_ROUGHNESS = (0.1, 0.3, 0.5, 0.7, 0.9)
 
 
 def run(cmd, log):
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    seconds = time.perf_counter() - start
-    with open(log, "w") as f:
-        f.write(" ".join(cmd) + "\n" + proc.stdout)
-    if proc.returncode != 0:
-        sys.exit("failed (%d): %s\n%s" % (proc.returncode, " ".join(cmd), proc.stdout[-3000:]))
+    text, seconds = run_logged(cmd, log)
     print("  %.1f s: %s" % (seconds, " ".join(cmd)))
-    return proc.stdout, seconds
+    return text, seconds
 
 
 def read_rgba(path):

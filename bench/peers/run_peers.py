@@ -19,12 +19,13 @@ Agreement between renderers is a separate table: the converged renders against e
 import argparse
 import os
 import re
-import subprocess
 import sys
-import time
 
 import numpy
 import OpenImageIO as oiio
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from benchlib import run_logged  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PRISM = os.environ.get("PRISM", os.path.join(ROOT, "build/apps/prism"))
@@ -40,21 +41,12 @@ EPS = 1e-2  # relative MSE: (x - r)^2 / (r^2 + EPS)
 LIT = 0.02  # a pixel is "lit" when both converged renders exceed this mean RGB radiance
 
 
-def run(cmd, log):
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    wall = time.perf_counter() - start
-    with open(log, "w") as f:
-        f.write(" ".join(cmd) + "\n" + proc.stdout)
-    if proc.returncode != 0:
-        sys.exit("failed (%d): %s\n%s" % (proc.returncode, " ".join(cmd), proc.stdout[-3000:]))
-    return proc.stdout, wall
 
 
 def prism(scene, out, res, spp, integrator, extra=()):
     cmd = [PRISM, "render", scene, "-o", out, "--integrator", integrator, "--spp", str(spp),
            "--res", res, "--threads", str(THREADS)] + list(extra)
-    text, wall = run(cmd, out + ".log")
+    text, wall = run_logged(cmd, out + ".log")
     render = float(re.search(r"render time\s+([0-9.]+) s", text).group(1))
     return render, wall, cmd, text
 
@@ -69,7 +61,7 @@ def povray(scene, out, res, samples_root):
     aa = ["-A"] if samples_root == 1 else ["+AM1", "+A0.0", "+R%d" % samples_root, "-J"]
     cmd = ["povray", "-D", "-V", "+I" + scene, "+O" + out, "+FE", "+W" + w, "+H" + h,
            "+WT%d" % THREADS] + aa
-    text, wall = run(cmd, out + ".log")
+    text, wall = run_logged(cmd, out + ".log")
     trace = float(re.search(r"Trace Time:.*\(([0-9.]+) seconds\)", text).group(1))
     parse = float(re.search(r"Parse Time:.*\(([0-9.]+) seconds\)", text).group(1))
     return parse + trace, wall, cmd
@@ -79,7 +71,7 @@ def cycles(scene, out, res, spp, lambert=False):
     cmd = ["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
            CYCLES_SCRIPT, "--", scene, out, "--res", res, "--spp", str(spp),
            "--threads", str(THREADS)] + (["--lambert"] if lambert else [])
-    text, wall = run(cmd, out + ".log")
+    text, wall = run_logged(cmd, out + ".log")
     render = float(re.search(r"PEER_RENDER_TIME ([0-9.]+)", text).group(1))
     return render, wall, cmd
 
