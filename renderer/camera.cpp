@@ -68,9 +68,8 @@ Imath::Box3d scene_bounds(const SceneDescription& scene) {
   return bounds;
 }
 
-V3d rebasing_origin(const SceneDescription& scene, const CameraDescription& camera) {
+V3d rebasing_origin(const Imath::Box3d& bounds, const CameraDescription& camera) {
   const V3d eye = camera_position(camera);
-  const Imath::Box3d bounds = scene_bounds(scene);
   if (bounds.isEmpty()) return eye;
   V3d origin;
   const V3d size = bounds.size();

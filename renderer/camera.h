@@ -29,8 +29,10 @@ Imath::Box3d scene_bounds(const SceneDescription& scene);
 // is rounded finest), and one outside, however far, would otherwise leave every hit with the
 // rounding error, and so the ray offset, of its distance from the camera: 1.6 cm for a
 // sphere 1 km away (docs/accuracy.md, "Precision far from the camera").
+// `bounds` are the scene's (scene_bounds), which a caller rendering many frames of one scene
+// computes once: on a big mesh they are a pass over every vertex.
 inline constexpr double kSharedOriginExtent = 64.0;
-V3d rebasing_origin(const SceneDescription& scene, const CameraDescription& camera);
+V3d rebasing_origin(const Imath::Box3d& bounds, const CameraDescription& camera);
 
 // How an orthographic camera's xmag and ymag fit an image of `width` x `height`. glTF gives
 // both; pixels stay square, so both are honoured only when the image has their ratio (to

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "renderer/parallel_index.h"
 #include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
 
@@ -236,10 +237,10 @@ std::vector<V3f> read_vec3_float(const AccessorView& view, const std::string& wh
   expect_float(view, what, file);
   std::vector<V3f> out = charged_copy(view, V3f(0.0f));
   if (!view.data) return out;
-  for (std::size_t i = 0; i < view.count; ++i) {
+  for_each_index(view.count, [&](std::size_t i) {
     const unsigned char* p = view.data + i * view.stride;
     out[i] = V3f(load<float>(p), load<float>(p + 4), load<float>(p + 8));
-  }
+  });
   return out;
 }
 
@@ -292,7 +293,7 @@ std::vector<uint32_t> read_indices(const AccessorView& view, const std::string& 
   }
   std::vector<uint32_t> out = charged_copy(view, uint32_t{0});
   if (!view.data) return out;
-  for (std::size_t i = 0; i < view.count; ++i) {
+  for_each_index(view.count, [&](std::size_t i) {
     const unsigned char* p = view.data + i * view.stride;
     if (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
       out[i] = p[0];
@@ -301,7 +302,7 @@ std::vector<uint32_t> read_indices(const AccessorView& view, const std::string& 
     } else {
       out[i] = load<uint32_t>(p);
     }
-  }
+  });
   return out;
 }
 

@@ -18,6 +18,7 @@
 
 #include "renderer/geometry/tangents.h"
 #include "renderer/math.h"
+#include "renderer/parallel_index.h"
 #include "scene_io/gltf_accessors.h"
 #include "scene_io/gltf_attributes.h"
 #include "scene_io/gltf_budget.h"
@@ -576,10 +577,10 @@ class Converter final : public MaterialExtensionReader {
     const AccessorView positions =
         view_accessor(model_, position->second, element + ".attributes.POSITION", file_);
     out.positions = read_vec3_float(positions, "POSITION", file_);
-    for (std::size_t i = 0; i < out.positions.size(); ++i) {
-      if (!is_finite(out.positions[i])) {
-        error(positions.element(), "vertex " + std::to_string(i) + " position is not finite");
-      }
+    const std::size_t nonfinite = first_index_where(
+        out.positions.size(), [&](std::size_t i) { return !is_finite(out.positions[i]); });
+    if (nonfinite < out.positions.size()) {
+      error(positions.element(), "vertex " + std::to_string(nonfinite) + " position is not finite");
     }
     const std::size_t vertices = out.positions.size();
     if (vertices > std::numeric_limits<uint32_t>::max()) {
@@ -599,18 +600,21 @@ class Converter final : public MaterialExtensionReader {
     };
     if (const auto normals = attribute("NORMAL")) {
       out.normals = read_vec3_float(*normals, "NORMAL", file_);
-      for (std::size_t i = 0; i < out.normals.size(); ++i) {
-        V3f& n = out.normals[i];
+      const std::size_t broken = first_index_where(out.normals.size(), [&](std::size_t i) {
+        const V3f& n = out.normals[i];
         const float length = n.length();
-        if (!is_finite(n) || !std::isfinite(length) || length <= 0.0f) {
-          warn(normals->element(), "normal " + std::to_string(i) +
-                                       " is zero or not finite; the primitive's normals are "
-                                       "dropped and flat normals used");
-          out.normals.clear();
-          break;
-        }
-        n /= length;
+        return !is_finite(n) || !std::isfinite(length) || length <= 0.0f;
+      });
+      if (broken < out.normals.size()) {
+        warn(normals->element(), "normal " + std::to_string(broken) +
+                                     " is zero or not finite; the primitive's normals are "
+                                     "dropped and flat normals used");
+        out.normals.clear();
       }
+      for_each_index(out.normals.size(), [&](std::size_t i) {
+        V3f& n = out.normals[i];
+        n /= n.length();
+      });
     }
     if (const auto uv = attribute("TEXCOORD_0")) {
       out.uv0 = read_texcoords(*uv, file_);
@@ -635,12 +639,12 @@ class Converter final : public MaterialExtensionReader {
     if (in.indices >= 0) {
       const AccessorView view = view_accessor(model_, in.indices, element + ".indices", file_);
       indices = read_indices(view, file_);
-      for (std::size_t i = 0; i < indices.size(); ++i) {
-        if (indices[i] >= vertices) {
-          error(element + ".indices", "index " + std::to_string(indices[i]) + " at position " +
-                                          std::to_string(i) + " out of range (" +
-                                          std::to_string(vertices) + " vertices)");
-        }
+      const std::size_t i =
+          first_index_where(indices.size(), [&](std::size_t k) { return indices[k] >= vertices; });
+      if (i < indices.size()) {
+        error(element + ".indices", "index " + std::to_string(indices[i]) + " at position " +
+                                        std::to_string(i) + " out of range (" +
+                                        std::to_string(vertices) + " vertices)");
       }
     } else {
       charge(vertices, sizeof(uint32_t), element + ".indices");
@@ -1100,6 +1104,9 @@ SceneDescription load(const std::string& path, const LoadOptions& options) {
     ok = loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(),
                                     static_cast<unsigned int>(json_text.size()), "");
   }
+  // tinygltf holds its own copy of every buffer: the file's bytes are not needed again, and
+  // on a big binary file they are as large as the scene about to be made from them.
+  std::vector<unsigned char>().swap(bytes);
   if (!gate.failed_element().empty()) throw LoadError(gate.failure());
   if (!image_guard.element.empty()) fail(path, image_guard.element, image_guard.what);
   // tinygltf also reports some problems (such as a missing required property) in `err` while

@@ -495,7 +495,8 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
   // Rebased per scene, or per camera for a scene too large to share one origin
   // (rebasing_origin): jobs from every camera of a small scene share one build.
   const CameraDescription view = camera(job);
-  const V3d origin = rebasing_origin(scene_, view);
+  if (!bounds_) bounds_ = scene_bounds(scene_);  // the geometry never changes after loading
+  const V3d origin = rebasing_origin(*bounds_, view);
   const Environment& sky = environment(job);
   // The default key light stands over the shoulder of whichever camera renders (moved by
   // --look-from or framing the scene as it may be), so the scene is rebuilt when it turns.

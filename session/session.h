@@ -22,10 +22,12 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include <Imath/ImathBox.h>
 #include <tbb/task_arena.h>
 
 #include "distributed/world.h"
@@ -143,6 +145,7 @@ class Session {
   SessionOptions options_;
   const distributed::World* world_ = nullptr;  // with distribute_frames
   SceneDescription scene_;
+  std::optional<Imath::Box3d> bounds_;  // scene_bounds(scene_), on first use
   std::vector<std::string> sphere_report_;
   bool defaults_added_ = false;
   size_t file_cameras_ = 0;

@@ -123,6 +123,29 @@ TEST(BuildQuality, EveryQualityReachesTheMeshBuilds) {
   EXPECT_NE(bytes[0], bytes[2]);
 }
 
+// LOW is for previews of big meshes, where writing the BVH is most of the build: it always
+// takes the compact layout, so it holds what LOW with COMPACT asked for holds, and less than
+// MEDIUM's default layout (Triangle4i leaves index the shared vertices instead of copying them).
+TEST(BuildQuality, LowBuildsTheCompactLayout) {
+  SceneDescription scene;
+  Mesh ball;
+  ball.primitives.push_back(tessellate_sphere(Sphere{V3d(0, 0, 0), 1.0, -1, ""}, 6));
+  scene.meshes.push_back(ball);
+  scene.instances.push_back(MeshInstance{0, M44d(), "ball"});
+  scene.cameras.push_back(testing::ortho_camera_looking_down_z(5.0, 1.2));
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  auto held = [&](BuildQuality q, bool compact) {
+    auto device = std::make_shared<EmbreeDevice>();
+    const long long before = device->bytes_in_use();
+    const RenderScene built(device, scene, options_for(scene, q, compact), colour);
+    return device->bytes_in_use() - before;
+  };
+  const long long low = held(BuildQuality::low, false);
+  EXPECT_EQ(low, held(BuildQuality::low, true));
+  EXPECT_LT(low, held(BuildQuality::medium, false));
+  EXPECT_GT(held(BuildQuality::medium, false), held(BuildQuality::medium, true));
+}
+
 // The meshes are copied, baked and cleaned in parallel, then attached in the scene's order:
 // the same geomIDs, statistics and image with one thread as with two.
 TEST(BuildQuality, ParallelConstructionIsIndependentOfTheThreadCount) {

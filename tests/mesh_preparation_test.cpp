@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include <tbb/task_arena.h>
+
 #include "renderer/geometry/mesh_preparation.h"
 
 namespace prism {
@@ -141,6 +143,45 @@ TEST(MeshPreparation, CountsTrianglesABakeMakesNonFinite) {
   EXPECT_EQ(mesh.statistics.nonfinite_triangles, 1u);
   EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2}));
   EXPECT_EQ(mesh.positions[3], V3f(0, 0, 0));
+}
+
+// A grid far larger than one parallel chunk (renderer/parallel_index.h), with a dropped
+// triangle and a broken normal in chunks other than the first: one thread and two prepare
+// the same mesh bit for bit, and the counts are the serial rule's.
+TEST(MeshPreparation, ABigMeshPreparesTheSameOnOneThreadAndOnTwo) {
+  constexpr uint32_t kSide = 400;  // 400 x 400 vertices, 318 402 triangles
+  Primitive p;
+  for (uint32_t y = 0; y < kSide; ++y)
+    for (uint32_t x = 0; x < kSide; ++x) {
+      p.positions.push_back(V3f(float(x), float(y), 0.01f * float((x * 7 + y * 3) % 5)));
+      p.normals.push_back(V3f(0.0f, 0.0f, 2.0f));
+    }
+  for (uint32_t y = 0; y + 1 < kSide; ++y)
+    for (uint32_t x = 0; x + 1 < kSide; ++x) {
+      const uint32_t v = y * kSide + x;
+      p.indices.insert(p.indices.end(), {v, v + 1, v + kSide + 1, v, v + kSide + 1, v + kSide});
+    }
+  const size_t triangles = p.indices.size() / 3;
+  p.indices[3 * 200000 + 1] = p.indices[3 * 200000];  // a repeated index, far past one chunk
+  p.positions[150200].x = kNaN;                       // an inner vertex: its 6 triangles go
+  p.normals[120000] = V3f(0.0f);                      // a broken normal, repaired
+  PreparedMesh one, two;
+  tbb::task_arena(1).execute([&] { one = prepare_mesh(p, M44d().translate(V3d(1, 2, 3))); });
+  tbb::task_arena(2).execute([&] { two = prepare_mesh(p, M44d().translate(V3d(1, 2, 3))); });
+  EXPECT_EQ(one.statistics.degenerate_triangles, 1u);
+  EXPECT_EQ(one.statistics.nonfinite_triangles, 6u);
+  EXPECT_EQ(one.statistics.normals_repaired, 1u);
+  EXPECT_EQ(one.triangle_count(), triangles - 7);
+  EXPECT_NEAR(one.normals[120000].length(), 1.0f, 1e-6f);
+  EXPECT_GT(one.normals[120000].z, 0.99f);
+  EXPECT_EQ(one.positions[150200], V3f(0.0f));  // used by dropped triangles only: zeroed
+  EXPECT_EQ(one.indices, two.indices);
+  EXPECT_EQ(one.positions, two.positions);
+  EXPECT_EQ(one.normals, two.normals);
+  EXPECT_EQ(one.face_normals, two.face_normals);
+  EXPECT_EQ(one.statistics.degenerate_triangles, two.statistics.degenerate_triangles);
+  EXPECT_EQ(one.statistics.nonfinite_triangles, two.statistics.nonfinite_triangles);
+  EXPECT_EQ(one.statistics.normals_repaired, two.statistics.normals_repaired);
 }
 
 }  // namespace
