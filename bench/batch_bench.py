@@ -26,7 +26,7 @@ to each part (about 19 minutes there).
    Printed: median wall of each, throughput ratio (b)/(a), the per-job overhead of the
    batch = (batch wall - sum over jobs of the report's load + build + render + write) /
    jobs, and whether scenes_loaded equals the number of distinct scene files.
-2. Large jobs: scenes/whitted.gltf and scenes/spheres.gltf, whitted, 640x480, 4 to 8 spp
+2. Large jobs: scenes/whitted.gltf and scenes/spheres.gltf, whitted, 640x480, 32 to 64 spp
    (10 renders of 2 s or more each). Printed: batch wall / sum of the render processes'
    walls, batch wall / sum of their `render time` lines, and the batch's summed
    render_seconds / the processes' summed render times.
@@ -72,7 +72,7 @@ CANDIDATES = [
 INTEGRATORS = ["shadow", "whitted"]
 BRDFS = ["gltf", "lecture"]
 LARGE_SCENES = ["scenes/whitted.gltf", "scenes/spheres.gltf"]
-LARGE_SPP = [4, 5, 6, 7, 8]
+LARGE_SPP = [32, 40, 48, 56, 64]
 
 
 def timed(cmd, log=None):

@@ -56,7 +56,8 @@ class PassRunner {
   // With a claim_tile callback, task i renders whichever tile the claim hands out, not tile i:
   // no process can be handed more than every tile, and once the claims run dry the remaining
   // tasks return without asking again.
-  void run(const RenderContext& context, const std::vector<TileRect>& tiles) {
+  // Each tile counts `weight` towards the progress total: the samples per pixel it takes.
+  void run(const RenderContext& context, const std::vector<TileRect>& tiles, int weight = 1) {
     std::atomic<bool> claims_exhausted{false};
     tbb::parallel_for(
         tbb::blocked_range<size_t>(0, tiles.size(), 1),
@@ -77,7 +78,7 @@ class PassRunner {
             integrator_.render_tile(context, tiles[tile], image_, &counters);
             for (size_t k = 0; k < kRayKindCount; ++k) rays_[k] += counters.rays[k];
             discarded_ += counters.discarded_samples;
-            report(++done_);
+            report(done_ += weight);
           }
         },
         tbb::simple_partitioner());
@@ -152,8 +153,9 @@ class Checkpoints {
     return stop;
   }
 
-  double seconds() const {
-    return resumed_seconds_ + runner_.seconds() - std::chrono::duration<double>(save_time_).count();
+  double seconds() const { return resumed_seconds_ + seconds_this_run(); }
+  double seconds_this_run() const {
+    return runner_.seconds() - std::chrono::duration<double>(save_time_).count();
   }
   RayCounters rays() const {
     RayCounters r = resumed_rays_;
@@ -204,23 +206,39 @@ RenderResult render_uniform(const RenderContext& context, const std::vector<Tile
   const bool checkpoints = callbacks.checkpoints();
   // Passes keep each pixel's sums between them; a single pass keeps them on the stack.
   const bool per_sample = after_pass || checkpoints;
-  const int passes = per_sample ? std::max(1, s.spp) : 1;
+  const int samples = per_sample ? std::max(1, s.spp) : 1;
   RenderState state;
   if (per_sample) state = initial_state(s, callbacks.resume, image);
   Checkpoints clock(callbacks, *runner);
   RenderResult result;
-  runner->set_total(static_cast<int>(tiles.size()) * passes);
+  runner->set_total(static_cast<int>(tiles.size()) * samples);
   runner->skip(static_cast<int>(tiles.size()) * state.samples_done);
-  for (int pass = state.samples_done; pass < passes; ++pass) {
+  // A render that only needs checkpoints takes its samples in passes of about
+  // callbacks.pass_seconds (one sample first, to learn the rate); each pixel still sums its
+  // samples in order, so the image is the same however they are grouped. `after_pass` asks
+  // for every sample.
+  int pass_samples = 1;
+  const int first_sample = state.samples_done;
+  for (int pass = state.samples_done; pass < samples;) {
+    const int end = std::min(samples, pass + pass_samples);
     RenderContext pass_context = context;
-    if (per_sample) pass_context.pass = SamplePass{pass, pass + 1, state.sums.data()};
-    runner->run(pass_context, tiles);
+    if (per_sample) pass_context.pass = SamplePass{pass, end, state.sums.data()};
+    runner->run(pass_context, tiles, end - pass);
     if (runner->cancelled()) break;
-    state.samples_done = pass + 1;
-    if (after_pass) runner->call(after_pass, pass + 1, *image);
-    if (checkpoints && pass + 1 < passes && clock.poll(&state)) {
+    state.samples_done = end;
+    if (after_pass) runner->call(after_pass, end, *image);
+    if (checkpoints && end < samples && clock.poll(&state)) {
       result.stopped_at_checkpoint = true;
       break;
+    }
+    pass = end;
+    if (!after_pass && callbacks.pass_seconds > 0.0) {
+      // The poll's own time (a checkpoint written) is not the render's rate.
+      const double per_sample_seconds = clock.seconds_this_run() / (end - first_sample);
+      pass_samples = per_sample_seconds > 0.0
+                         ? static_cast<int>(std::clamp(callbacks.pass_seconds / per_sample_seconds,
+                                                       1.0, static_cast<double>(samples)))
+                         : samples;
     }
   }
   result.cancelled = runner->cancelled();

@@ -43,6 +43,11 @@ using ProgressCallback = std::function<void(int tiles_done, int tiles_total)>;
 // the image of their means.
 using PassCallback = std::function<void(int samples_done, const Image& image)>;
 
+// A pass of one sample each costs a sweep over every tile and every pixel's stored sums; at
+// a few tens of milliseconds per pass that was 6 % of a checkpointed render. Half a second
+// keeps a stop or a due checkpoint that close.
+inline constexpr double kDefaultPassSeconds = 0.5;
+
 struct RenderCallbacks {
   ProgressCallback progress;
   PassCallback after_pass;
@@ -56,8 +61,9 @@ struct RenderCallbacks {
   // of work.
   std::function<std::optional<size_t>()> claim_tile;
 
-  // Checkpoints (renderer/render_state.h). With any of these set the render runs one sample
-  // per pixel per pass, keeping each pixel's sums between passes, and between passes (never
+  // Checkpoints (renderer/render_state.h). With any of these set the render runs its samples
+  // in passes (of about pass_seconds; adaptive renders in their rounds), keeping each
+  // pixel's sums between passes, and between passes (never
   // within one, and not after the last) polls `checkpoint_due` and `stop`: either hands the
   // state to `save`, and `stop` then ends the render (RenderResult::stopped_at_checkpoint).
   // Called on the calling thread; the time they take is not counted as rendering.
@@ -67,6 +73,10 @@ struct RenderCallbacks {
   // Continue from this state instead of sample 0; it must match the film
   // (RenderState::mismatch; std::invalid_argument otherwise).
   const RenderState* resume = nullptr;
+  // About how long a uniform render's pass between two polls runs (after a first pass of one
+  // sample that measures the rate); 0 takes one sample per pass, so that every sample
+  // boundary can be stopped at (the checkpoint tests).
+  double pass_seconds = kDefaultPassSeconds;
 
   bool checkpoints() const { return checkpoint_due || stop || save || resume; }
 };

@@ -146,6 +146,7 @@ struct JobCallbacks {
   std::function<bool()> stop;
   std::function<void(const RenderState&)> save_checkpoint;
   const RenderState* resume = nullptr;
+  double pass_seconds = kDefaultPassSeconds;  // RenderCallbacks::pass_seconds
 };
 
 struct RenderOutput {

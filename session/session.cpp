@@ -565,6 +565,7 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
   render_callbacks.stop = callbacks.stop;
   render_callbacks.save = callbacks.save_checkpoint;
   render_callbacks.resume = callbacks.resume;
+  render_callbacks.pass_seconds = callbacks.pass_seconds;
   if (!job.reference_path.empty()) {
     render_callbacks.after_pass = [&](int samples, const Image& so_far) {
       // A region is measured where it was rendered.

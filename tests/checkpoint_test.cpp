@@ -73,6 +73,7 @@ RenderState stop_after(const RenderJob& job, int stop_after, const RenderState* 
   int polls = 0;
   std::vector<RenderState> saved;
   JobCallbacks callbacks;
+  callbacks.pass_seconds = 0.0;  // a boundary after every sample
   callbacks.stop = [&] { return ++polls == stop_after; };
   callbacks.save_checkpoint = [&](const RenderState& s) { saved.push_back(s); };
   callbacks.resume = resume;
@@ -85,6 +86,7 @@ RenderState stop_after(const RenderJob& job, int stop_after, const RenderState* 
 
 RenderOutput resume_from(const RenderJob& job, const RenderState& state) {
   JobCallbacks callbacks;
+  callbacks.pass_seconds = 0.0;
   callbacks.resume = &state;
   callbacks.stop = [] { return false; };
   return session().render(job, callbacks);
@@ -115,6 +117,7 @@ void check_stop_and_resume(const RenderJob& job, const std::vector<int>& stops) 
   // Checkpoint hooks that save at every boundary and never stop change nothing.
   int saves = 0;
   JobCallbacks every;
+  every.pass_seconds = 0.0;
   every.checkpoint_due = [] { return true; };
   every.save_checkpoint = [&](const RenderState&) { ++saves; };
   const RenderOutput with_hooks = session().render(job, every);
@@ -150,6 +153,26 @@ void check_stop_and_resume(const RenderJob& job, const std::vector<int>& stops) 
 
 TEST(Checkpoint, UniformRenderResumesBitIdentically) {
   check_stop_and_resume(uniform_job(), {1, 4, 9});
+}
+
+// Samples grouped into passes by time (the default) give the image of one sample per pass:
+// with a pass as long as the whole render, the first pass takes one sample and the second
+// all the rest, so there is one boundary to save at.
+TEST(Checkpoint, SamplesGroupedIntoLongPassesGiveTheSameImage) {
+  const RenderJob job = uniform_job();
+  const RenderOutput whole = session().render(job);
+  int saves = 0;
+  JobCallbacks grouped;
+  grouped.pass_seconds = 1e9;
+  grouped.checkpoint_due = [] { return true; };
+  grouped.save_checkpoint = [&](const RenderState& s) {
+    ++saves;
+    EXPECT_EQ(1, s.samples_done);
+  };
+  const RenderOutput out = session().render(job, grouped);
+  EXPECT_EQ(1, saves);
+  EXPECT_TRUE(same_pixels(out.image, whole.image));
+  EXPECT_TRUE(same_rays(out.result.rays, whole.result.rays));
 }
 
 TEST(Checkpoint, AdaptiveRenderResumesBitIdentically) {
