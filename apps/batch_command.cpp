@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 
 #include <nlohmann/json.hpp>
 
 #include "apps/batch_file.h"
 #include "apps/command_line.h"
+#include "apps/progress_bar.h"
 #include "apps/stop_signals.h"
 #include "distributed/world.h"
 #include "renderer/version.h"
@@ -88,27 +90,31 @@ void print_table(const std::vector<JobRecord>& records) {
                 r.error.empty() ? "" : ": ", r.error.c_str());
 }
 
-// One line on a terminal: the jobs done and the running job's tiles.
+// One line on a terminal: the jobs done, the share of the whole batch with an ETA, and the
+// running jobs (small ones render side by side) with their shares.
 class BatchProgress {
  public:
   BatchProgress(bool enabled, size_t jobs)
       : terminal_(enabled && isatty(STDERR_FILENO)), enabled_(enabled), jobs_(jobs) {}
   void started(const BatchJob& job) {
     std::lock_guard lock(mutex_);
-    running_ = job.label();
+    running_[job.index] = {job.label(), 0.0};
   }
-  void tiles(int done, int total) {
+  void tiles(const BatchJob& job, int done, int total) {
     if (!terminal_ || total <= 0) return;
     std::unique_lock lock(mutex_, std::try_to_lock);
     if (!lock.owns_lock()) return;
+    if (auto it = running_.find(job.index); it != running_.end())
+      it->second.fraction = static_cast<double>(done) / total;
     const auto now = Clock::now();
     if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
     last_ = now;
-    draw(static_cast<double>(done) / total);
+    draw();
   }
   void finished(const JobRecord& r) {
     std::lock_guard lock(mutex_);
     ++done_;
+    running_.erase(r.index);
     if (!enabled_) return;
     if (terminal_) std::fprintf(stderr, "\r\033[K");
     std::fprintf(stderr, "prism: [%zu/%zu] %s %s %.3f s%s%s\n", done_, jobs_, to_string(r.status),
@@ -119,18 +125,31 @@ class BatchProgress {
   }
 
  private:
-  void draw(double fraction) {
+  struct Running {
+    std::string label;
+    double fraction = 0.0;
+  };
+  void draw() {
+    double running = 0.0;
+    for (const auto& [index, job] : running_) running += job.fraction;
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-    const double overall = (static_cast<double>(done_) + fraction) / static_cast<double>(jobs_);
+    const double overall = (static_cast<double>(done_) + running) / static_cast<double>(jobs_);
     const double eta = overall > 0.0 ? elapsed * (1.0 - overall) / overall : 0.0;
-    std::fprintf(stderr, "\r\033[K[%zu/%zu jobs] %3d%%  ETA %.0fs  %s %3d%%", done_, jobs_,
-                 static_cast<int>(overall * 100.0), eta, running_.c_str(),
-                 static_cast<int>(fraction * 100.0));
+    std::string jobs;
+    for (const auto& [index, job] : running_)
+      jobs += (jobs.empty() ? "" : ", ") + job.label + " " +
+              std::to_string(static_cast<int>(job.fraction * 100.0)) + "%";
+    const std::string line = "[" + std::to_string(done_) + "/" + std::to_string(jobs_) + " jobs] " +
+                             std::to_string(static_cast<int>(overall * 100.0)) + "%  ETA " +
+                             std::to_string(static_cast<long>(eta + 0.5)) + "s  " + jobs;
+    // Cut to the terminal's width, so that the line never wraps.
+    const size_t columns = static_cast<size_t>(std::max(20, terminal_columns()));
+    std::fprintf(stderr, "\r\033[K%s", line.substr(0, columns - 1).c_str());
     std::fflush(stderr);
   }
   bool terminal_, enabled_;
   size_t jobs_, done_ = 0;
-  std::string running_;
+  std::map<int, Running> running_;  // by job index
   std::mutex mutex_;
   Clock::time_point start_ = Clock::now(), last_{};
 };
@@ -211,7 +230,9 @@ int run(const BatchCommandOptions& o) {
     }
     progress.started(job);
   };
-  callbacks.progress = [&](const BatchJob&, int done, int total) { progress.tiles(done, total); };
+  callbacks.progress = [&](const BatchJob& job, int done, int total) {
+    progress.tiles(job, done, total);
+  };
   callbacks.job_finished = [&](const JobRecord& r) { progress.finished(r); };
   callbacks.abandon = [] { return interrupted(); };
   callbacks.stop = [] { return stop_requested(); };

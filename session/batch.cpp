@@ -1,6 +1,7 @@
 #include "session/batch.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -131,13 +132,7 @@ std::string BatchJob::label() const {
 
 struct Batch::PendingWrite {
   tbb::task_group group;
-  std::shared_ptr<const SceneCache::Entry> scene;  // keeps its colour pipelines alive
-  RenderOutput output;
-  OutputFiles files;
-  const ColourPipeline* colour = nullptr;
-  size_t slot = 0;
-  std::string error;
-  double seconds = 0.0;
+  std::unique_ptr<RunningJob> running;  // keeps its scene, and so its colour pipelines, alive
 };
 
 Batch::Batch(std::vector<BatchJobSpec> specs, const BatchOptions& options)
@@ -276,6 +271,32 @@ bool Batch::up_to_date(const BatchJob& job) {
   return fingerprint(job, now) == *stored;
 }
 
+// A job between its preparation on the batch's own thread and the end of its render (on
+// any of the arena's threads): what its callbacks and its record need, at a fixed address.
+struct Batch::RunningJob {
+  const BatchJob* job = nullptr;
+  JobRecord* record = nullptr;
+  std::shared_ptr<const SceneCache::Entry> entry;
+  std::optional<Session::Prepared> prepared;
+  const ColourPipeline* colour = nullptr;
+  std::string job_print, checkpoint;
+  std::optional<RenderState> resume;
+  double interval = 0.0;
+  Clock::time_point start, last_save;
+  uint64_t checkpoint_requests_seen = 0;
+  std::string save_error;
+  RenderOutput output;  // rendered, until its files are written
+};
+
+bool Batch::side_by_side(const BatchJob& job) const {
+  // A render this small spends much of its time in what one thread does alone (preparing,
+  // the first and last tiles, writing), which a neighbour's tiles fill; a larger one keeps
+  // every core busy by itself, and two of them at once would only hold two films.
+  const RenderJob& r = job.spec.render;
+  const double pixels = r.width > 0 ? static_cast<double>(r.width) * r.height : 640.0 * 480.0;
+  return pixels * std::max(1, r.film.spp) <= kSideBySideSamples;
+}
+
 std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
                                   const BatchCallbacks& callbacks) {
   std::vector<JobRecord> records(jobs.size());
@@ -298,41 +319,91 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
   std::unique_ptr<distributed::SharedCounter> claims;
   if (world && world->size() > 1) claims = std::make_unique<distributed::SharedCounter>(*world);
   std::vector<uint8_t> ran(jobs.size(), 0);
-  bool stopping = false;
-  for (size_t position = 0; position < order.size(); ++position) {
-    if (!stopping &&
-        ((callbacks.stop && callbacks.stop()) || (callbacks.abandon && callbacks.abandon())))
-      stopping = true;
-    if (stopping) break;
-    // Several ranks claim positions as each becomes free: the next job goes to whichever
-    // rank is idle first, so a long job does not hold up the rest.
-    if (claims) {
-      position = static_cast<size_t>(claims->next());
-      if (position >= order.size()) break;
-    }
-    const size_t slot = order[position];
-    const BatchJob& job = jobs[slot];
-    JobRecord& record = records[slot];
-    ran[slot] = 1;
-    record.rank = world ? world->rank() : 0;
-    if (callbacks.job_started) callbacks.job_started(job);
-    const auto start = Clock::now();
-    if (!job.error.empty()) {
-      record.status = JobStatus::failed;
-      record.error = job.error;
-    } else if (!options_.force && up_to_date(job)) {
-      record.status = JobStatus::skipped;
-    } else {
-      render_job(job, slot, &records, callbacks);
-      if (record.status == JobStatus::cancelled) stopping = true;
-      // A rendered job's files are being written while the next job renders; its record is
-      // final, and reported, once they are.
-      if (record.status == JobStatus::rendered) continue;
-    }
+  std::atomic<bool> stopping{false};
+  // Small jobs render side by side: at most one per thread at once, each on the arena's
+  // threads with its tiles, so one job's serial parts overlap the others' tiles.
+  const int most_side_by_side = arena_->max_concurrency();
+  std::atomic<int> side_by_side_running{0};
+  tbb::task_group side_by_side_group;
+  // A job that did not render: its time is all its own.
+  auto finish = [&](JobRecord& record, Clock::time_point start) {
     record.seconds = seconds_since(start);
     if (callbacks.job_finished) callbacks.job_finished(record);
-  }
-  finish_write(&records, callbacks);
+  };
+  arena_->execute([&] {
+    // The main loop runs inside the arena, so that its thread takes tiles while it waits.
+    for (size_t position = 0; position < order.size(); ++position) {
+      if (stopping || (callbacks.stop && callbacks.stop()) ||
+          (callbacks.abandon && callbacks.abandon())) {
+        stopping = true;
+        break;
+      }
+      // Several ranks claim positions as each becomes free: the next job goes to whichever
+      // rank is idle first, so a long job does not hold up the rest.
+      if (claims) {
+        position = static_cast<size_t>(claims->next());
+        if (position >= order.size()) break;
+      }
+      const size_t slot = order[position];
+      const BatchJob& job = jobs[slot];
+      JobRecord& record = records[slot];
+      ran[slot] = 1;
+      record.rank = world ? world->rank() : 0;
+      if (callbacks.job_started) callbacks.job_started(job);
+      const auto start = Clock::now();
+      if (!job.error.empty()) {
+        record.status = JobStatus::failed;
+        record.error = job.error;
+        finish(record, start);
+        continue;
+      }
+      if (!options_.force && up_to_date(job)) {
+        record.status = JobStatus::skipped;
+        finish(record, start);
+        continue;
+      }
+      const bool small = side_by_side(job);
+      // A large job has the arena to itself: the small ones before it finish first.
+      if (!small) side_by_side_group.wait();
+      std::unique_ptr<RunningJob> running =
+          prepare_job(job, &record, start, small && side_by_side_running > 0,
+                      [&] { side_by_side_group.wait(); });
+      if (!running) {
+        finish(record, start);
+        continue;
+      }
+      if (!small) {
+        render_prepared(running.get(), callbacks);
+        if (record.status == JobStatus::cancelled) stopping = true;
+        // Its files are written while the next job renders; its record is final, and
+        // reported, once they are.
+        if (record.status == JobStatus::rendered) {
+          write_in_background(std::move(running), callbacks);
+          continue;
+        }
+        if (callbacks.job_finished) callbacks.job_finished(record);
+        continue;
+      }
+      record.side_by_side = true;
+      auto render_small = [&, running = std::shared_ptr<RunningJob>(std::move(running))] {
+        render_prepared(running.get(), callbacks);
+        if (running->record->status == JobStatus::cancelled) stopping = true;
+        if (running->record->status == JobStatus::rendered) write_now(running.get());
+        if (callbacks.job_finished) callbacks.job_finished(*running->record);
+      };
+      if (side_by_side_running + 1 < most_side_by_side) {
+        ++side_by_side_running;
+        side_by_side_group.run([render_small, &side_by_side_running] {
+          render_small();
+          --side_by_side_running;
+        });
+      } else {
+        render_small();  // on this thread, which the others' tiles share meanwhile
+      }
+    }
+    side_by_side_group.wait();
+  });
+  finish_write(callbacks);
   if (claims) {
     claims.reset();  // collective: every rank is done claiming
     gather_records(*world, ran, &records);
@@ -345,58 +416,96 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
   return records;
 }
 
-void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>* records,
-                       const BatchCallbacks& callbacks) {
-  JobRecord& record = (*records)[slot];
-  const auto start = Clock::now();
+std::unique_ptr<Batch::RunningJob> Batch::prepare_job(
+    const BatchJob& job, JobRecord* record, Clock::time_point start, bool beside_running,
+    const std::function<void()>& wait_for_running) {
+  auto running = std::make_unique<RunningJob>();
+  running->job = &job;
+  running->record = record;
+  running->start = start;
   const auto entry = cache_->get(job.spec.scene);
   // The first job of a scene pays for its load, even when planning did it (to list the
   // cameras of "camera": "all"), so that the jobs' times add up to the batch's.
   if (entry->session && charged_loads_.insert(entry->session).second)
-    record.load_seconds = entry->session->load_seconds();
+    record->load_seconds = entry->session->load_seconds();
   if (!entry->session) {
-    record.status = JobStatus::failed;
-    record.error = (entry->request_error ? "scene: " : "") + entry->error;
-    return;
+    record->status = JobStatus::failed;
+    record->error = (entry->request_error ? "scene: " : "") + entry->error;
+    return nullptr;
   }
+  running->entry = entry;
   Session& session = *entry->session;
-  const std::string job_print = fingerprint(job, entry->inputs);
+  running->job_print = fingerprint(job, entry->inputs);
+  running->interval = job.spec.checkpoint_interval > 0.0 ? job.spec.checkpoint_interval
+                                                         : options_.checkpoint_interval;
+  running->checkpoint = checkpoint_path(job.files.image);
+  try {
+    session.check(job.spec.render);
+    if (running->interval > 0.0) {
+      std::error_code error;
+      if (fs::exists(running->checkpoint, error)) {
+        // Another job's, or a damaged one, is rendered over from the start (and replaced).
+        CheckpointRead read =
+            read_checkpoint(running->checkpoint, session.film(job.spec.render), running->job_print);
+        if (read.state) running->resume = std::move(read.state);
+      }
+    }
+    if (beside_running) running->prepared = session.prepare_beside_running(job.spec.render);
+    if (!running->prepared) {
+      // Its render scene differs from the one the running jobs hold: they finish first.
+      wait_for_running();
+      running->prepared = session.prepare(job.spec.render);
+    }
+    running->colour = &session.colour(job.spec.render.working_space);
+  } catch (const RequestError& e) {
+    record->status = JobStatus::failed;
+    record->error = e.field + ": " + e.what();
+    return nullptr;
+  } catch (const std::exception& e) {
+    record->status = JobStatus::failed;
+    record->error = e.what();
+    return nullptr;
+  }
+  // A build made the session heavier.
+  cache_->trim();
+  record->scene_bytes = session.memory_bytes();
+  running->last_save = Clock::now();
+  running->checkpoint_requests_seen = checkpoint_requests_;
+  return running;
+}
+
+void Batch::render_prepared(RunningJob* running, const BatchCallbacks& callbacks) {
+  const BatchJob& job = *running->job;
+  JobRecord& record = *running->record;
+  Session& session = *running->entry->session;
   JobCallbacks job_callbacks;
   if (callbacks.progress)
     job_callbacks.progress = [&](int done, int total) { callbacks.progress(job, done, total); };
   if (callbacks.abandon) job_callbacks.cancel = callbacks.abandon;
-  const double interval = job.spec.checkpoint_interval > 0.0 ? job.spec.checkpoint_interval
-                                                             : options_.checkpoint_interval;
-  const std::string checkpoint = checkpoint_path(job.files.image);
-  std::optional<RenderState> resume;
-  auto last_save = Clock::now();
-  std::string save_error;
+  if (running->interval > 0.0) {
+    job_callbacks.checkpoint_due = [&] {
+      // A request (SIGUSR2) is for every running job, and each polls it once.
+      if (callbacks.checkpoint_now && callbacks.checkpoint_now()) ++checkpoint_requests_;
+      const uint64_t requests = checkpoint_requests_;
+      const bool requested = requests != running->checkpoint_requests_seen;
+      running->checkpoint_requests_seen = requests;
+      return requested || seconds_since(running->last_save) >= running->interval;
+    };
+    if (callbacks.stop) job_callbacks.stop = callbacks.stop;
+    job_callbacks.save_checkpoint = [&](const RenderState& state) {
+      try {
+        write_checkpoint(running->checkpoint, state, running->job_print);
+      } catch (const std::exception& e) {
+        running->save_error = e.what();  // the render goes on; the previous checkpoint stays
+      }
+      running->last_save = Clock::now();
+    };
+    job_callbacks.resume = running->resume ? &*running->resume : nullptr;
+  }
   RenderOutput out;
   try {
-    session.check(job.spec.render);
-    if (interval > 0.0) {
-      std::error_code error;
-      if (fs::exists(checkpoint, error)) {
-        // Another job's, or a damaged one, is rendered over from the start (and replaced).
-        CheckpointRead read = read_checkpoint(checkpoint, session.film(job.spec.render), job_print);
-        if (read.state) resume = std::move(read.state);
-      }
-      job_callbacks.checkpoint_due = [&] {
-        return (callbacks.checkpoint_now && callbacks.checkpoint_now()) ||
-               seconds_since(last_save) >= interval;
-      };
-      if (callbacks.stop) job_callbacks.stop = callbacks.stop;
-      job_callbacks.save_checkpoint = [&](const RenderState& state) {
-        try {
-          write_checkpoint(checkpoint, state, job_print);
-        } catch (const std::exception& e) {
-          save_error = e.what();  // the render goes on; the previous checkpoint stays
-        }
-        last_save = Clock::now();
-      };
-      job_callbacks.resume = resume ? &*resume : nullptr;
-    }
-    out = session.render(job.spec.render, job_callbacks);
+    out = session.run(std::move(*running->prepared), job_callbacks);
+    record.seconds = seconds_since(running->start);
   } catch (const RequestError& e) {
     record.status = JobStatus::failed;
     record.error = e.field + ": " + e.what();
@@ -406,7 +515,7 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
     record.error = e.what();
     return;
   }
-  cache_->trim();
+  running->prepared.reset();
   record.width = out.film.width;
   record.height = out.film.height;
   record.render_seconds = out.result.seconds;
@@ -414,63 +523,62 @@ void Batch::render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>*
   record.rays = out.result.rays.total();
   record.rays_per_second =
       out.result.seconds > 0.0 ? static_cast<double>(record.rays) / out.result.seconds : 0.0;
-  record.scene_bytes = session.memory_bytes();
   if (!out.pass_errors.empty()) record.reference_error = out.pass_errors.back();
   record.resumed_samples = out.resumed_samples;
   if (out.result.cancelled || out.result.stopped_at_checkpoint) {
     record.status = JobStatus::cancelled;
     record.error =
         out.result.stopped_at_checkpoint
-            ? (save_error.empty()
-                   ? "stopped; its checkpoint " + checkpoint + " continues it on the next run"
-                   : "stopped, but its checkpoint could not be saved: " + save_error)
+            ? (running->save_error.empty()
+                   ? "stopped; its checkpoint " + running->checkpoint +
+                         " continues it on the next run"
+                   : "stopped, but its checkpoint could not be saved: " + running->save_error)
             : "abandoned";
     return;
   }
   record.status = JobStatus::rendered;
-  out.metadata.extra.insert(out.metadata.extra.end(), {{"jobName", job.spec.name},
-                                                       {"jobFingerprint", job_print},
-                                                       {"jobInputs", format_inputs(entry->inputs)},
-                                                       {"jobSettings", job.settings}});
-
-  // One write in flight: the previous job's files are done before this one's start.
-  finish_write(records, callbacks);
-  pending_ = std::make_unique<PendingWrite>();
-  PendingWrite* p = pending_.get();
-  p->scene = entry;
-  p->output = std::move(out);
-  p->files = job.files;
-  p->colour = &session.colour(job.spec.render.working_space);
-  p->slot = slot;
-  record.seconds = seconds_since(start);
-  arena_->execute([p] {
-    p->group.run([p] {
-      const auto write_start = Clock::now();
-      try {
-        // Compressed on this one task of the batch's arena: it overlaps the next job's
-        // render, and a pool of its own would take cores beyond --threads.
-        write_output_files(p->files, p->output, *p->colour, 1);
-        // The image is on disk: its checkpoint has nothing left to continue.
-        std::error_code ignored;
-        fs::remove(checkpoint_path(p->files.image), ignored);
-      } catch (const std::exception& e) {
-        p->error = e.what();
-      }
-      p->seconds = seconds_since(write_start);
-    });
-  });
+  out.metadata.extra.insert(out.metadata.extra.end(),
+                            {{"jobName", job.spec.name},
+                             {"jobFingerprint", running->job_print},
+                             {"jobInputs", format_inputs(running->entry->inputs)},
+                             {"jobSettings", job.settings}});
+  running->output = std::move(out);
 }
 
-void Batch::finish_write(std::vector<JobRecord>* records, const BatchCallbacks& callbacks) {
+void Batch::write_now(RunningJob* running) {
+  JobRecord& record = *running->record;
+  const auto write_start = Clock::now();
+  try {
+    // One thread: the jobs beside it keep the others busy.
+    write_output_files(running->job->files, running->output, *running->colour, 1);
+    // The image is on disk: its checkpoint has nothing left to continue.
+    std::error_code ignored;
+    fs::remove(running->checkpoint, ignored);
+  } catch (const std::exception& e) {
+    record.status = JobStatus::failed;
+    record.error = e.what();
+  }
+  record.write_seconds = seconds_since(write_start);
+  record.seconds += record.write_seconds;
+  running->output = RenderOutput{};
+}
+
+void Batch::write_in_background(std::unique_ptr<RunningJob> running,
+                                const BatchCallbacks& callbacks) {
+  // One write in flight: the previous job's files are done before this one's start.
+  finish_write(callbacks);
+  pending_ = std::make_unique<PendingWrite>();
+  pending_->running = std::move(running);
+  RunningJob* r = pending_->running.get();
+  // Compressed on this one task of the batch's arena: it overlaps the next job's render,
+  // and a pool of its own would take cores beyond --threads.
+  arena_->execute([this, r] { pending_->group.run([this, r] { write_now(r); }); });
+}
+
+void Batch::finish_write(const BatchCallbacks& callbacks) {
   if (!pending_) return;
   arena_->execute([&] { pending_->group.wait(); });
-  JobRecord& record = (*records)[pending_->slot];
-  record.write_seconds = pending_->seconds;
-  record.seconds += pending_->seconds;
-  if (!pending_->error.empty()) {
-    record.status = JobStatus::failed;
-    record.error = pending_->error;
-  }
+  JobRecord& record = *pending_->running->record;
   pending_.reset();
   if (callbacks.job_finished) callbacks.job_finished(record);
 }

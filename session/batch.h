@@ -4,8 +4,10 @@
 // write the same file, and renders them through the job API (session/session.h) so that:
 //   - each scene is loaded and built once and reused by all its jobs, within a memory budget
 //     (SceneCache, least recently used dropped first);
-//   - every job runs on one task arena, whose size is the batch's thread count; a job's
-//     files are written while the next one renders;
+//   - every job runs on one task arena, whose size is the batch's thread count; small jobs
+//     (kSideBySideSamples) render side by side, up to one per thread, each writing its own
+//     files, while a larger one has every thread to itself and its files are written while
+//     the next job renders;
 //   - an output records its job's fingerprint (session/job_fingerprint.h), and a job whose
 //     output exists with the fingerprint it would get now is skipped;
 //   - a job that fails (a broken scene, a camera the file lacks, an output that cannot be
@@ -14,6 +16,8 @@
 //     any moment leaves each output either absent, old or complete.
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -98,11 +102,16 @@ struct JobRecord {
   double build_seconds = 0.0;   // building its BVH, when this job caused it
   int resumed_samples = 0;      // samples per pixel continued from a checkpoint
   int rank = 0;                 // the MPI rank that ran it
+  bool side_by_side = false;    // rendered as a small job, beside others (kSideBySideSamples)
   uint64_t rays = 0;
   double rays_per_second = 0.0;
   uint64_t scene_bytes = 0;                  // what its scene's session held after the render
   std::optional<PassError> reference_error;  // with a reference image
 };
+
+// A job of at most this many samples (pixels x spp) renders beside others: 320 x 240 at 16
+// spp is one, 640 x 480 at 16 is not.
+inline constexpr double kSideBySideSamples = 320.0 * 240.0 * 16.0;
 
 struct BatchOptions {
   int threads = 0;                                       // the whole batch's; 0 = every core
@@ -118,6 +127,9 @@ struct BatchOptions {
   bool distribute_jobs = false;
 };
 
+// Small jobs render side by side, so job_finished, progress, abandon, stop and
+// checkpoint_now may be called from several threads at once; job_started is called on the
+// thread that called Batch::run, in the order jobs start.
 struct BatchCallbacks {
   std::function<void(const BatchJob&)> job_started;
   std::function<void(const JobRecord&)> job_finished;
@@ -164,9 +176,22 @@ class Batch {
   int scene_evictions() const { return scene_evictions_; }
 
  private:
-  // Renders `job` into (*records)[slot]; a rendered job's files are then being written.
-  void render_job(const BatchJob& job, size_t slot, std::vector<JobRecord>* records,
-                  const BatchCallbacks& callbacks);
+  struct RunningJob;
+  // Whether `job` is small enough to render beside others (kSideBySideSamples).
+  bool side_by_side(const BatchJob& job) const;
+  // On the batch's own thread: the job's scene from the cache, its checks, checkpoint and
+  // prepared render (Session::prepare_beside_running when `beside_running`, else after
+  // `wait_for_running`); null, with the record failed, when it cannot render.
+  std::unique_ptr<RunningJob> prepare_job(const BatchJob& job, JobRecord* record,
+                                          std::chrono::steady_clock::time_point start,
+                                          bool beside_running,
+                                          const std::function<void()>& wait_for_running);
+  // On any thread of the arena: renders a prepared job and fills its record.
+  void render_prepared(RunningJob* running, const BatchCallbacks& callbacks);
+  // Writes a rendered job's files (on the calling thread, compressing on it alone).
+  void write_now(RunningJob* running);
+  // Writes them on one task of the arena while the batch goes on.
+  void write_in_background(std::unique_ptr<RunningJob> running, const BatchCallbacks& callbacks);
   std::string fingerprint(const BatchJob& job, const std::vector<InputFile>& inputs) const;
 
   std::vector<BatchJobSpec> specs_;
@@ -182,7 +207,9 @@ class Batch {
   // The files of the last rendered job, written while the next one renders.
   struct PendingWrite;
   std::unique_ptr<PendingWrite> pending_;
-  void finish_write(std::vector<JobRecord>* records, const BatchCallbacks& callbacks);
+  void finish_write(const BatchCallbacks& callbacks);
+  // SIGUSR2-style requests for a checkpoint seen so far, so that every running job saves.
+  std::atomic<uint64_t> checkpoint_requests_{0};
 };
 
 }  // namespace prism

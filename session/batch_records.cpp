@@ -22,6 +22,7 @@ nlohmann::json record_json(const JobRecord& r) {
                       {"build_seconds", r.build_seconds},
                       {"resumed_samples", r.resumed_samples},
                       {"rank", r.rank},
+                      {"side_by_side", r.side_by_side},
                       {"rays", r.rays},
                       {"rays_per_second", r.rays_per_second},
                       {"scene_bytes", r.scene_bytes}};
@@ -52,6 +53,7 @@ JobRecord record_from_json(const nlohmann::json& j) {
   r.build_seconds = j.at("build_seconds").get<double>();
   r.resumed_samples = j.at("resumed_samples").get<int>();
   r.rank = j.at("rank").get<int>();
+  r.side_by_side = j.at("side_by_side").get<bool>();
   r.rays = j.at("rays").get<uint64_t>();
   r.rays_per_second = j.at("rays_per_second").get<double>();
   r.scene_bytes = j.at("scene_bytes").get<uint64_t>();

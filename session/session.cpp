@@ -401,11 +401,16 @@ RenderSettings Session::film_for(const RenderJob& job, const CameraDescription& 
   return film;
 }
 
+Session::EnvironmentKey Session::environment_key(const RenderJob& job) {
+  const EnvironmentRequest& e = job.environment;
+  return std::make_tuple(e.path, e.rotation_degrees, e.intensity, e.hidden, job.background,
+                         job.working_space);
+}
+
 const Environment& Session::environment(const RenderJob& job) {
   add_defaults();
   const EnvironmentRequest& e = job.environment;
-  auto key = std::make_tuple(e.path, e.rotation_degrees, e.intensity, e.hidden, job.background,
-                             job.working_space);
+  const EnvironmentKey key = environment_key(job);
   if (environment_.made && environment_.key == key) return environment_.environment;
   if (!std::isfinite(e.intensity) || e.intensity < 0.0f)
     throw RequestError("environment-intensity",
@@ -492,18 +497,23 @@ BuildQuality Session::build_quality(const RenderJob& job) {
 }
 
 const RenderScene& Session::render_scene(const RenderJob& job, double* build_seconds) {
+  return *render_scene(job, false, build_seconds);
+}
+
+std::shared_ptr<const RenderScene> Session::render_scene(const RenderJob& job, bool beside_running,
+                                                         double* build_seconds) {
   // Rebased per scene, or per camera for a scene too large to share one origin
   // (rebasing_origin): jobs from every camera of a small scene share one build.
   const CameraDescription view = camera(job);
   if (!bounds_) bounds_ = scene_bounds(scene_);  // the geometry never changes after loading
   const V3d origin = rebasing_origin(*bounds_, view);
-  const Environment& sky = environment(job);
   // The default key light stands over the shoulder of whichever camera renders (moved by
   // --look-from or framing the scene as it may be), so the scene is rebuilt when it turns.
   std::array<double, 3> key_light{0.0, 0.0, 0.0};
+  std::optional<Light> default_light;
   if (scene_.default_lighting) {
-    scene_.lights = {default_key_light(view)};
-    const V3d& d = scene_.lights.front().direction;
+    default_light = default_key_light(view);
+    const V3d& d = default_light->direction;
     key_light = {d.x, d.y, d.z};
   }
   const BuildQuality quality = build_quality(job);
@@ -511,15 +521,28 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
       std::make_tuple(to_string(job.spheres), job.robust, quality, job.working_space, key_light,
                       std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
-  if (built_.scene && built_.key == key) {
-    // Another environment needs no new BVH: only the light choices that weigh it change.
-    built_.scene->set_environment(sky);
-    return *built_.scene;
+  // A prepared render holds the scene (use_count > 1): it must not change under it.
+  const bool held = built_.scene && built_.scene.use_count() > 1;
+  const bool reusable = built_.scene && built_.key == key;
+  if (beside_running && held && !reusable) return nullptr;
+  if (reusable) {
+    // The render scene keeps a copy of its environment: setting another is a change to it.
+    if (beside_running && held && environment_key(job) != built_.environment_key) return nullptr;
+    if (environment_key(job) != built_.environment_key) {
+      // Another environment needs no new BVH: only the light choices that weigh it change.
+      built_.scene->set_environment(environment(job));
+      built_.environment_key = environment_key(job);
+    }
+    return built_.scene;
   }
+  const Environment& sky = environment(job);
+  if (default_light) scene_.lights = {*default_light};
   const ColourPipeline& colours = colour(job.working_space);
   const auto start = Clock::now();
   arena_->execute([&] {
-    built_.scene.reset();  // freed first: two BVHs at once would double the peak memory
+    // Freed first (unless a running render still holds it): two BVHs at once would double
+    // the peak memory.
+    built_.scene.reset();
     GeometryOptions geometry;
     geometry.spheres = job.spheres;
     geometry.robust = job.robust;
@@ -529,34 +552,64 @@ const RenderScene& Session::render_scene(const RenderJob& job, double* build_sec
     // (docs/stress-shading.md, huge coordinates; docs/accuracy.md, far cameras).
     geometry.world_origin = origin;
     if (!device_) device_ = std::make_shared<EmbreeDevice>();
-    built_.scene = std::make_unique<RenderScene>(device_, scene_, geometry, colours, sky, job.brdf);
+    built_.scene = std::make_shared<RenderScene>(device_, scene_, geometry, colours, sky, job.brdf);
   });
   built_.key = key;
+  built_.environment_key = environment_key(job);
   if (build_seconds) *build_seconds = seconds_since(start);
-  return *built_.scene;
+  return built_.scene;
+}
+
+Session::Prepared::~Prepared() = default;
+
+Session::Prepared Session::prepare(const RenderJob& job) {
+  return std::move(*prepare(job, false));
+}
+
+std::optional<Session::Prepared> Session::prepare_beside_running(const RenderJob& job) {
+  return prepare(job, true);
+}
+
+std::optional<Session::Prepared> Session::prepare(const RenderJob& job, bool beside_running) {
+  add_defaults();
+  Prepared p;
+  p.job_ = job;
+  p.plan_ = plan(job);
+  if (!job.reference_path.empty()) {
+    check(job);
+    p.reference_ = read_reference(job.reference_path);
+  }
+  RenderOutput& out = p.out_;
+  out.integrator = p.plan_.integrator->name;
+  out.parameters = p.plan_.parameters;
+  out.film = p.plan_.film;
+  out.warnings = p.plan_.warnings;
+  out.camera_index = p.plan_.camera;
+  out.camera_name = p.plan_.camera_description.name;
+  p.scene_ = render_scene(job, beside_running, &out.build_seconds);
+  if (!p.scene_) return std::nullopt;
+  p.built_at_ = std::get<2>(built_.key);
+  out.geometry = p.scene_->geometry().statistics();
+  out.features = p.scene_->features();
+  out.lights = p.scene_->lights().size();
+  p.integrator_ = p.plan_.integrator->make(p.plan_.parameters);
+  p.camera_.emplace(
+      p.scene_->camera(p.plan_.camera_description, p.plan_.film.width, p.plan_.film.height));
+  return p;
 }
 
 RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks) {
-  add_defaults();
-  const Plan p = plan(job);
-  Image reference;
-  if (!job.reference_path.empty()) {
-    check(job);
-    reference = read_reference(job.reference_path);
-  }
-  RenderOutput out;
-  out.integrator = p.integrator->name;
-  out.parameters = p.parameters;
-  out.film = p.film;
-  out.warnings = p.warnings;
-  out.camera_index = p.camera;
-  out.camera_name = p.camera_description.name;
-  const RenderScene& built = render_scene(job, &out.build_seconds);
-  out.geometry = built.geometry().statistics();
-  out.features = built.features();
-  out.lights = built.lights().size();
-  const std::unique_ptr<Integrator> integrator = p.integrator->make(p.parameters);
-  const Camera camera = built.camera(p.camera_description, p.film.width, p.film.height);
+  return run(prepare(job), callbacks);
+}
+
+RenderOutput Session::run(Prepared prepared, const JobCallbacks& callbacks) {
+  const RenderJob& job = prepared.job_;
+  const Plan& p = prepared.plan_;
+  const Image& reference = prepared.reference_;
+  const RenderScene& built = *prepared.scene_;
+  const Integrator& integrator = *prepared.integrator_;
+  const Camera& camera = *prepared.camera_;
+  RenderOutput out = std::move(prepared.out_);
 
   RenderCallbacks render_callbacks;
   render_callbacks.progress = callbacks.progress;
@@ -579,7 +632,7 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
   }
   if (ranks() == 1) {
     arena_->execute([&] {
-      out.result = prism::render(*integrator, RenderContext{built, camera, p.film}, &out.image,
+      out.result = prism::render(integrator, RenderContext{built, camera, p.film}, &out.image,
                                  render_callbacks);
     });
   } else {
@@ -595,19 +648,21 @@ RenderOutput Session::render(const RenderJob& job, const JobCallbacks& callbacks
           callbacks.progress(static_cast<int>(split.claimed_anywhere()), total);
         };
       arena_->execute([&] {
-        out.result = prism::render(*integrator, RenderContext{built, camera, p.film}, &out.image,
+        out.result = prism::render(integrator, RenderContext{built, camera, p.film}, &out.image,
                                    render_callbacks);
       });
       out.frame_split = split.gather(&out.image, &out.result);
     });
   }
   out.resumed_samples = out.result.resumed_samples;
-  out.metadata = metadata(job, p, camera, out);
+  out.metadata = metadata(job, p, prepared.built_at_, camera, out);
+  // A scene rebuilt meanwhile is released here, on the session's threads as every other.
+  arena_->execute([&] { prepared.scene_.reset(); });
   return out;
 }
 
-RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Camera& camera,
-                                 const RenderOutput& out) const {
+RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, BuildQuality built_at,
+                                 const Camera& camera, const RenderOutput& out) const {
   RenderMetadata m;
   m.integrator = out.integrator;
   m.spp = p.film.spp;
@@ -622,7 +677,7 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, const Came
                                     "," + format_number(placed[3][2])},
              {"spheres", to_string(job.spheres)},
              // As built: the key of the render scene this job rendered settles `auto`.
-             {"buildQuality", to_string(std::get<2>(built_.key))},
+             {"buildQuality", to_string(built_at)},
              {"brdf", to_string(job.brdf)},
              {"robust", job.robust ? "1" : "0"}};
   for (const ParameterInfo& info : p.integrator->parameters)

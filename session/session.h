@@ -74,7 +74,22 @@ class Session {
 
   // Renders `job`: check, build or reuse the render scene, render on the session's threads.
   // Cancelling (callbacks.cancel) returns the tiles finished so far with result.cancelled.
+  // The same as run(prepare(job), callbacks).
   RenderOutput render(const RenderJob& job, const JobCallbacks& callbacks = {});
+
+  // A render split in two, so that several renders of one session can run at once (a
+  // batch's small jobs side by side): prepare does everything before the tiles (check,
+  // build or reuse the render scene, the camera, the integrator) and holds on to the render
+  // scene; run renders the tiles, reading only what the prepared render holds.
+  //   - prepare, like every other method, must not be called while another is;
+  //   - run may be called from several threads at once, and while prepare is, as long as
+  //     prepare is not asked to change what a running render holds: prepare_beside_running
+  //     refuses (nullopt) instead of rebuilding or re-lighting a render scene that a prepared
+  //     render holds, so its caller waits for those to finish and then calls prepare.
+  class Prepared;
+  Prepared prepare(const RenderJob& job);
+  std::optional<Prepared> prepare_beside_running(const RenderJob& job);
+  RenderOutput run(Prepared prepared, const JobCallbacks& callbacks = {});
 
   // The film `job` renders: its settings with the resolution settled (RequestError as check).
   RenderSettings film(const RenderJob& job) {
@@ -132,14 +147,22 @@ class Session {
     std::vector<std::string> warnings;  // RenderOutput::warnings
   };
   Plan plan(const RenderJob& job) const;
+  // What an environment is made from: a job's environment options and working space.
+  using EnvironmentKey = std::tuple<std::string, float, float, bool, Imath::V3f, WorkingSpace>;
+  static EnvironmentKey environment_key(const RenderJob& job);
+  // prepare's work; with `beside_running`, nullopt where it would change a held scene.
+  std::optional<Prepared> prepare(const RenderJob& job, bool beside_running);
+  // render_scene's work; with `beside_running`, null where it would change a held scene.
+  std::shared_ptr<const RenderScene> render_scene(const RenderJob& job, bool beside_running,
+                                                  double* build_seconds);
   int find_camera(const std::string& camera) const;
   CameraDescription placed_camera(const RenderJob& job, int* index) const;
   // The film of `job` from `camera`: the job's resolution or the camera's default, with the
   // warnings it gives.
   RenderSettings film_for(const RenderJob& job, const CameraDescription& camera,
                           std::vector<std::string>* warnings) const;
-  RenderMetadata metadata(const RenderJob& job, const Plan& plan, const Camera& camera,
-                          const RenderOutput& output) const;
+  RenderMetadata metadata(const RenderJob& job, const Plan& plan, BuildQuality built_at,
+                          const Camera& camera, const RenderOutput& output) const;
 
   SceneRequest request_;
   SessionOptions options_;
@@ -159,16 +182,40 @@ class Session {
     std::tuple<std::string, bool, BuildQuality, WorkingSpace, std::array<double, 3>,
                std::array<double, 3>, BrdfModel>
         key;
-    std::unique_ptr<RenderScene> scene;
+    // Shared with the prepared renders that hold it: a rebuild while they run leaves
+    // theirs alive until they finish.
+    std::shared_ptr<RenderScene> scene;
+    // The environment set on it, as MadeEnvironment::key.
+    EnvironmentKey environment_key;
   };
   BuiltScene built_;
   // The environment kept, with the job's choices it was made for.
   struct MadeEnvironment {
-    std::tuple<std::string, float, float, bool, Imath::V3f, WorkingSpace> key;
+    EnvironmentKey key;
     Environment environment;
     bool made = false;
   };
   MadeEnvironment environment_;
+};
+
+class Session::Prepared {
+ public:
+  Prepared(Prepared&&) = default;
+  Prepared& operator=(Prepared&&) = default;
+  ~Prepared();
+  const RenderSettings& film() const { return plan_.film; }
+
+ private:
+  friend class Session;
+  Prepared() = default;
+  RenderJob job_;
+  Plan plan_;
+  Image reference_;
+  std::shared_ptr<const RenderScene> scene_;
+  BuildQuality built_at_ = BuildQuality::automatic;
+  std::unique_ptr<Integrator> integrator_;
+  std::optional<Camera> camera_;
+  RenderOutput out_;
 };
 
 }  // namespace prism
