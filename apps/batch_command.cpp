@@ -183,6 +183,7 @@ int run(const BatchCommandOptions& o) {
   options.threads = o.threads;
   options.force = o.force;
   options.checkpoint_interval = o.checkpoint_interval;
+  options.side_by_side = !o.one_at_a_time;
   options.distribute_jobs = true;  // under mpirun; a plain run is a world of one
   options.memory_budget_bytes = static_cast<uint64_t>(o.memory_budget_gib * double(1 << 30));
   options.load_memory_limit_bytes = static_cast<uint64_t>(o.memory_limit_gib * double(1 << 30));
@@ -312,6 +313,8 @@ CLI::App* add_batch_command(CLI::App& app, BatchCommandOptions* o) {
   cmd->add_option("--threads", o->threads, "Worker threads for the whole batch (0 = all cores)")
       ->check(whole_number(0, 1024))
       ->capture_default_str();
+  cmd->add_flag("--one-at-a-time", o->one_at_a_time,
+                "Render one job at a time (by default small jobs render side by side)");
   cmd->add_option("--memory-budget", o->memory_budget_gib,
                   "GiB the scenes kept loaded between jobs may hold (least recently used "
                   "dropped first)")

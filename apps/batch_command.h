@@ -13,6 +13,7 @@ struct BatchCommandOptions {
   bool dry_run = false;
   bool force = false;
   bool keep_going = false;
+  bool one_at_a_time = false;
   int threads = 0;
   double memory_budget_gib = 8.0;  // the scenes kept loaded
   double memory_limit_gib = 8.0;   // each load

@@ -22,7 +22,8 @@ to each part (about 19 minutes there).
    4 spp: 100 renders. (a) `PRISM batch small.json --force --quiet`, (b) the same 100
    renders as 100 `PRISM render` processes one after the other (a Python loop; no
    --quiet, to read each one's `render time` line). With --old-prism, (c) the same 100
-   processes of another binary (e.g. an older commit's), interleaved with (a) and (b).
+   processes of another binary (e.g. an older commit's), interleaved with (a) and (b),
+   without the options it does not have (9e464b0: --brdf, so it renders its one model).
    Printed: median wall of each, throughput ratio (b)/(a), the per-job overhead of the
    batch = (batch wall - sum over jobs of the report's load + build + render + write) /
    jobs, and whether scenes_loaded equals the number of distinct scene files.
@@ -39,6 +40,7 @@ Walls are measured here with time.perf_counter around each process (the serial l
 the whole loop); CPU seconds come from os.wait4's rusage.
 """
 import argparse
+import functools
 import json
 import os
 import re
@@ -209,6 +211,27 @@ def runs(xs):
     return ", ".join("%.3f" % x for x in xs)
 
 
+@functools.lru_cache(maxsize=None)
+def render_help(prism):
+    return subprocess.run([prism, "render", "--help"], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True).stdout
+
+
+def without_unknown_options(prism, command):
+    """`command` without the options (and their values) that `prism render --help` of an
+    older binary does not list (9e464b0 has no --brdf: it renders its one model)."""
+    help_text = render_help(prism)
+    out, i = [], 0
+    while i < len(command):
+        arg = command[i]
+        if arg.startswith("--") and not re.search(r"(^|[\s,])%s\b" % re.escape(arg), help_text):
+            i += 2  # every option the small jobs pass takes one value
+            continue
+        out.append(arg)
+        i += 1
+    return out
+
+
 def measure(label, prism, doc, serial, out_dir, reps, warmup, old_prism, emit, commands):
     os.makedirs(os.path.join(out_dir, "serial"), exist_ok=True)
     os.makedirs(os.path.join(out_dir, "batch"), exist_ok=True)
@@ -219,7 +242,8 @@ def measure(label, prism, doc, serial, out_dir, reps, warmup, old_prism, emit, c
     log = os.path.join(out_dir, label + ".log")
     commands.append("%s batch %s --force --quiet" % (prism, job_file))
     commands += [" ".join(c) for c in serial]
-    old = [[old_prism] + c[1:] for c in serial] if old_prism else None
+    old = [without_unknown_options(old_prism, [old_prism] + c[1:]) for c in serial] \
+        if old_prism else None
     if old:
         commands += [" ".join(c) for c in old]
     distinct = len({j["scene"] for j in doc["jobs"]})

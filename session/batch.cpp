@@ -322,8 +322,8 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
   std::atomic<bool> stopping{false};
   // Small jobs render side by side: at most one per thread at once, each on the arena's
   // threads with its tiles, so one job's serial parts overlap the others' tiles.
-  const int most_side_by_side = arena_->max_concurrency();
-  std::atomic<int> side_by_side_running{0};
+  const int most_side_by_side = options_.side_by_side ? arena_->max_concurrency() : 1;
+  std::atomic<int> side_by_side_running{0}, writes_waiting{0};
   tbb::task_group side_by_side_group;
   // A job that did not render: its time is all its own.
   auto finish = [&](JobRecord& record, Clock::time_point start) {
@@ -384,12 +384,31 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
         if (callbacks.job_finished) callbacks.job_finished(record);
         continue;
       }
-      record.side_by_side = true;
+      record.side_by_side = most_side_by_side > 1;
       auto render_small = [&, running = std::shared_ptr<RunningJob>(std::move(running))] {
         render_prepared(running.get(), callbacks);
         if (running->record->status == JobStatus::cancelled) stopping = true;
-        if (running->record->status == JobStatus::rendered) write_now(running.get());
-        if (callbacks.job_finished) callbacks.job_finished(*running->record);
+        if (running->record->status != JobStatus::rendered) {
+          if (callbacks.job_finished) callbacks.job_finished(*running->record);
+          return;
+        }
+        auto write = [&, running] {
+          write_now(running.get());
+          if (callbacks.job_finished) callbacks.job_finished(*running->record);
+        };
+        // Written by a task of its own, so that the thread that rendered it (often the
+        // batch's own) goes on to the next job and the write fills a gap in the tiles; but
+        // no more writes wait than there are other threads to take them, so that a kill
+        // loses at most those jobs (and one thread writes at once).
+        if (writes_waiting.fetch_add(1) + 1 < most_side_by_side) {
+          side_by_side_group.run([write, &writes_waiting] {
+            write();
+            --writes_waiting;
+          });
+        } else {
+          --writes_waiting;
+          write();
+        }
       };
       if (side_by_side_running + 1 < most_side_by_side) {
         ++side_by_side_running;
@@ -450,12 +469,12 @@ std::unique_ptr<Batch::RunningJob> Batch::prepare_job(
         if (read.state) running->resume = std::move(read.state);
       }
     }
-    if (beside_running) running->prepared = session.prepare_beside_running(job.spec.render);
-    if (!running->prepared) {
+    if (beside_running) {
+      running->prepared = session.prepare_beside_running(job.spec.render);
       // Its render scene differs from the one the running jobs hold: they finish first.
-      wait_for_running();
-      running->prepared = session.prepare(job.spec.render);
+      if (!running->prepared) wait_for_running();
     }
+    if (!running->prepared) running->prepared = session.prepare(job.spec.render);
     running->colour = &session.colour(job.spec.render.working_space);
   } catch (const RequestError& e) {
     record->status = JobStatus::failed;

@@ -125,6 +125,8 @@ struct BatchOptions {
   // Spread the jobs over the ranks an MPI launcher started (distributed/world.h): each rank
   // claims the next job as it becomes free, and rank 0's records are every rank's.
   bool distribute_jobs = false;
+  // Small jobs render side by side (kSideBySideSamples); false renders one job at a time.
+  bool side_by_side = true;
 };
 
 // Small jobs render side by side, so job_finished, progress, abandon, stop and
