@@ -289,12 +289,15 @@ struct Batch::RunningJob {
 };
 
 bool Batch::side_by_side(const BatchJob& job) const {
-  // A render this small spends much of its time in what one thread does alone (preparing,
-  // the first and last tiles, writing), which a neighbour's tiles fill; a larger one keeps
-  // every core busy by itself, and two of them at once would only hold two films.
+  // A small job spends much of its time where its own tiles cannot fill every thread (its
+  // preparation, the last tiles, compressing its EXR), which a neighbour's tiles fill; a job
+  // with enough tiles keeps every thread busy by itself, and beside another only shares
+  // the caches.
   const RenderJob& r = job.spec.render;
-  const double pixels = r.width > 0 ? static_cast<double>(r.width) * r.height : 640.0 * 480.0;
-  return pixels * std::max(1, r.film.spp) <= kSideBySideSamples;
+  const int64_t width = r.width > 0 ? r.width : 640, height = r.height > 0 ? r.height : 480;
+  const int64_t tile = std::max(1, r.film.tile_size);
+  const int64_t tiles = ((width + tile - 1) / tile) * ((height + tile - 1) / tile);
+  return tiles < int64_t{kSideBySideTilesPerThread} * arena_->max_concurrency();
 }
 
 std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
@@ -400,7 +403,7 @@ std::vector<JobRecord> Batch::run(const std::vector<BatchJob>& jobs,
         // batch's own) goes on to the next job and the write fills a gap in the tiles; but
         // no more writes wait than there are other threads to take them, so that a kill
         // loses at most those jobs (and one thread writes at once).
-        if (writes_waiting.fetch_add(1) + 1 < most_side_by_side) {
+        if (writes_waiting.fetch_add(1) + 1 < arena_->max_concurrency()) {
           side_by_side_group.run([write, &writes_waiting] {
             write();
             --writes_waiting;

@@ -5,7 +5,7 @@
 //   - each scene is loaded and built once and reused by all its jobs, within a memory budget
 //     (SceneCache, least recently used dropped first);
 //   - every job runs on one task arena, whose size is the batch's thread count; small jobs
-//     (kSideBySideSamples) render side by side, up to one per thread, each writing its own
+//     (kSideBySideTilesPerThread) render side by side, up to one per thread, each writing its own
 //     files, while a larger one has every thread to itself and its files are written while
 //     the next job renders;
 //   - an output records its job's fingerprint (session/job_fingerprint.h), and a job whose
@@ -102,16 +102,19 @@ struct JobRecord {
   double build_seconds = 0.0;   // building its BVH, when this job caused it
   int resumed_samples = 0;      // samples per pixel continued from a checkpoint
   int rank = 0;                 // the MPI rank that ran it
-  bool side_by_side = false;    // rendered as a small job, beside others (kSideBySideSamples)
+  bool side_by_side = false;    // rendered as a small job, beside others
   uint64_t rays = 0;
   double rays_per_second = 0.0;
   uint64_t scene_bytes = 0;                  // what its scene's session held after the render
   std::optional<PassError> reference_error;  // with a reference image
 };
 
-// A job of at most this many samples (pixels x spp) renders beside others: 320 x 240 at 16
-// spp is one, 640 x 480 at 16 is not.
-inline constexpr double kSideBySideSamples = 320.0 * 240.0 * 16.0;
+// A job with fewer tiles than this per thread of the batch renders beside others: at the end
+// of a job's tiles about one tile per thread is left, so with fewer than this many each the
+// idle tail is more than an eighth of the job. On 2 threads a 320 x 240 job (300 tiles of
+// 16 x 16) renders alone, which measured faster there than two side by side; on 64 it is
+// small.
+inline constexpr int kSideBySideTilesPerThread = 8;
 
 struct BatchOptions {
   int threads = 0;                                       // the whole batch's; 0 = every core
@@ -125,7 +128,7 @@ struct BatchOptions {
   // Spread the jobs over the ranks an MPI launcher started (distributed/world.h): each rank
   // claims the next job as it becomes free, and rank 0's records are every rank's.
   bool distribute_jobs = false;
-  // Small jobs render side by side (kSideBySideSamples); false renders one job at a time.
+  // Small jobs render side by side (kSideBySideTilesPerThread); false: one job at a time.
   bool side_by_side = true;
 };
 
@@ -179,7 +182,7 @@ class Batch {
 
  private:
   struct RunningJob;
-  // Whether `job` is small enough to render beside others (kSideBySideSamples).
+  // Whether `job` is small enough to render beside others (kSideBySideTilesPerThread).
   bool side_by_side(const BatchJob& job) const;
   // On the batch's own thread: the job's scene from the cache, its checks, checkpoint and
   // prepared render (Session::prepare_beside_running when `beside_running`, else after

@@ -121,7 +121,7 @@ class BatchRun : public ::testing::Test {
     low.build_quality = BuildQuality::low;  // another BVH: waits for the jobs beside it
     add(kSpheres, low);
     add(kWhitted, small_job("whitted", 4));
-    // Larger than kSideBySideSamples: the arena to itself.
+    // 300 tiles, more than kSideBySideTilesPerThread per thread: the arena to itself.
     RenderJob large = small_job("shadow", 1);
     large.width = 320;
     large.height = 240;
