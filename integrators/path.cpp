@@ -219,9 +219,12 @@ struct PathTracer {
         inside = !hit.back_face;
         absorption = material.absorption;
       }
-      ray = Ray{};
-      ray.origin = offset_ray_origin(hit.position, crosses ? -outside : outside, hit.surface_error);
-      ray.direction = bs.wi;
+      // Made whole before it replaces the ray: Imath's vectors start uninitialised.
+      Ray next;
+      next.origin =
+          offset_ray_origin(hit.position, crosses ? -outside : outside, hit.surface_error);
+      next.direction = bs.wi;
+      ray = next;
       ++(*counters)[RayKind::bounce];
       found = scene.geometry().intersect(ray, &hit);
     }
