@@ -108,6 +108,13 @@ void gather_records(const distributed::World& world, const std::vector<uint8_t>&
   }
 }
 
+// A job that threw: its record names the field when the request was at fault.
+void record_failure(const std::exception& e, JobRecord* record) {
+  record->status = JobStatus::failed;
+  const auto* request = dynamic_cast<const RequestError*>(&e);
+  record->error = request ? request->field + ": " + e.what() : e.what();
+}
+
 }  // namespace
 
 std::string placeholder_problem(const std::string& pattern) {
@@ -479,13 +486,8 @@ std::unique_ptr<Batch::RunningJob> Batch::prepare_job(
     }
     if (!running->prepared) running->prepared = session.prepare(job.spec.render);
     running->colour = &session.colour(job.spec.render.working_space);
-  } catch (const RequestError& e) {
-    record->status = JobStatus::failed;
-    record->error = e.field + ": " + e.what();
-    return nullptr;
   } catch (const std::exception& e) {
-    record->status = JobStatus::failed;
-    record->error = e.what();
+    record_failure(e, record);
     return nullptr;
   }
   // A build made the session heavier.
@@ -528,13 +530,8 @@ void Batch::render_prepared(RunningJob* running, const BatchCallbacks& callbacks
   try {
     out = session.run(std::move(*running->prepared), job_callbacks);
     record.seconds = seconds_since(running->start);
-  } catch (const RequestError& e) {
-    record.status = JobStatus::failed;
-    record.error = e.field + ": " + e.what();
-    return;
   } catch (const std::exception& e) {
-    record.status = JobStatus::failed;
-    record.error = e.what();
+    record_failure(e, &record);
     return;
   }
   running->prepared.reset();

@@ -521,21 +521,19 @@ std::shared_ptr<const RenderScene> Session::render_scene(const RenderJob& job, b
       std::make_tuple(to_string(job.spheres), job.robust, quality, job.working_space, key_light,
                       std::array<double, 3>{origin.x, origin.y, origin.z}, job.brdf);
   if (build_seconds) *build_seconds = 0.0;
-  // A prepared render holds the scene (use_count > 1): it must not change under it.
-  const bool held = built_.scene && built_.scene.use_count() > 1;
+  const EnvironmentKey lighting = environment_key(job);
   const bool reusable = built_.scene && built_.key == key;
-  if (beside_running && held && !reusable) return nullptr;
+  if (reusable && built_.environment_key == lighting) return built_.scene;
+  // Either a rebuild or another environment (the render scene keeps its own copy): neither
+  // may happen under a prepared render that holds the scene (use_count > 1).
+  if (beside_running && built_.scene && built_.scene.use_count() > 1) return nullptr;
+  const Environment& sky = environment(job);
   if (reusable) {
-    // The render scene keeps a copy of its environment: setting another is a change to it.
-    if (beside_running && held && environment_key(job) != built_.environment_key) return nullptr;
-    if (environment_key(job) != built_.environment_key) {
-      // Another environment needs no new BVH: only the light choices that weigh it change.
-      built_.scene->set_environment(environment(job));
-      built_.environment_key = environment_key(job);
-    }
+    // Another environment needs no new BVH: only the light choices that weigh it change.
+    built_.scene->set_environment(sky);
+    built_.environment_key = lighting;
     return built_.scene;
   }
-  const Environment& sky = environment(job);
   if (default_light) scene_.lights = {*default_light};
   const ColourPipeline& colours = colour(job.working_space);
   const auto start = Clock::now();
@@ -555,7 +553,7 @@ std::shared_ptr<const RenderScene> Session::render_scene(const RenderJob& job, b
     built_.scene = std::make_shared<RenderScene>(device_, scene_, geometry, colours, sky, job.brdf);
   });
   built_.key = key;
-  built_.environment_key = environment_key(job);
+  built_.environment_key = lighting;
   if (build_seconds) *build_seconds = seconds_since(start);
   return built_.scene;
 }
