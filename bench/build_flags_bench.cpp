@@ -38,8 +38,8 @@
 #include "renderer/image/colour.h"
 #include "renderer/render.h"
 #include "renderer/render_scene.h"
-#include "scene_passes/scene_defaults.h"
 #include "scene_io/gltf_loader.h"
+#include "scene_passes/scene_defaults.h"
 
 namespace prism {
 namespace {

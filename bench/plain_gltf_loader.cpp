@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   size_t texel_bytes = 0, buffer_bytes = 0;
   for (const tinygltf::Image& image : model.images) texel_bytes += image.image.size();
   for (const tinygltf::Buffer& buffer : model.buffers) buffer_bytes += buffer.data.size();
-  std::printf("%s: loaded in %.3f s: %zu images, %zu texel bytes, %zu buffer bytes\n",
-              path.c_str(), seconds, model.images.size(), texel_bytes, buffer_bytes);
+  std::printf("%s: loaded in %.3f s: %zu images, %zu texel bytes, %zu buffer bytes\n", path.c_str(),
+              seconds, model.images.size(), texel_bytes, buffer_bytes);
   return 0;
 }
