@@ -7,7 +7,7 @@
 //     build/bench/plain_gltf_loader SCENE.{gltf,glb}
 //
 // Prints the load's seconds, the images and their texel bytes; peak memory is the process's
-// (measure it from outside, e.g. with /usr/bin/time or farm-bench).
+// (measure it from outside, e.g. with /usr/bin/time).
 #include <chrono>
 #include <cstdio>
 #include <string>

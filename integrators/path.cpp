@@ -76,7 +76,7 @@ float power_heuristic(float f, float g) {
 }
 
 float max_component(const V3f& c) {
-  return std::fmax(c.x, std::fmax(c.y, c.z));
+  return fmax_inline(c.x, fmax_inline(c.y, c.z));
 }
 
 struct PathParameters {
@@ -209,7 +209,7 @@ struct PathTracer {
       bsdf_pdf = bs.specular() || bs.lobe == kGlossyTransmission ? -1.0f : bs.pdf;
       from = reference;
       if (depth + 1 >= params.roulette_depth) {
-        const float survive = std::fmin(1.0f, max_component(beta));
+        const float survive = fmin_inline(1.0f, max_component(beta));
         if (!(u_roulette < survive)) break;
         beta /= survive;
       }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include <Imath/ImathMatrix.h>
 #include <Imath/ImathVec.h>
@@ -15,6 +16,22 @@ using Imath::V3f;
 
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvPi = 0.31830988618379067154f;
+
+// std::fmax and std::fmin of two floats, with the result glibc's gives on x86-64 for every
+// input (the first argument unless the second is strictly greater/smaller or the first is a
+// NaN, so fmax(+0, -0) is +0 and fmax(-0, +0) is -0), but inline: without -ffast-math GCC calls
+// libm for them, and a call inside a BSDF costs the spill of every live float register too.
+// Floats only, checked at compile time: a double would be narrowed silently.
+template <typename A, typename B>
+inline float fmax_inline(A a, B b) {
+  static_assert(std::is_same_v<A, float> && std::is_same_v<B, float>, "floats only");
+  return (a >= b || b != b) ? a : b;
+}
+template <typename A, typename B>
+inline float fmin_inline(A a, B b) {
+  static_assert(std::is_same_v<A, float> && std::is_same_v<B, float>, "floats only");
+  return (a <= b || b != b) ? a : b;
+}
 
 inline bool is_finite(const V3f& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -116,7 +133,7 @@ inline float fresnel_dielectric(float cos_i, float eta, float* cos_t_out = nullp
     eta = 1.0f / eta;
     cos_i = -cos_i;
   }
-  const float sin2_i = std::fmax(0.0f, 1.0f - cos_i * cos_i);
+  const float sin2_i = fmax_inline(0.0f, 1.0f - cos_i * cos_i);
   const float sin2_t = sin2_i / (eta * eta);
   if (sin2_t >= 1.0f) {
     if (cos_t_out) *cos_t_out = 0.0f;

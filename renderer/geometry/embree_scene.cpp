@@ -468,7 +468,7 @@ void EmbreeScene::fill_triangle_hit(const PreparedMesh& mesh, const RTCRayHit& r
     V3f offset(0.0f);
     for (int k = 0; k < 3; ++k) {
       const V3f n = face_forward(mesh.normals[tri[k]], front);
-      const float below = std::fmin(0.0f, dot(hit->position - mesh.positions[tri[k]], n));
+      const float below = fmin_inline(0.0f, dot(hit->position - mesh.positions[tri[k]], n));
       offset -= (b[k] * below) * n;
     }
     if (is_finite(offset)) hit->terminator_offset = offset;

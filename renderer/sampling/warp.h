@@ -49,14 +49,14 @@ inline Imath::V3f square_to_cosine_hemisphere(const Imath::V2f& u) {
     }
   }
   const float x = r * std::cos(phi), y = r * std::sin(phi);
-  return Imath::V3f(x, y, std::sqrt(std::fmax(0.0f, 1.0f - x * x - y * y)));
+  return Imath::V3f(x, y, std::sqrt(fmax_inline(0.0f, 1.0f - x * x - y * y)));
 }
 
 // Density cos^n(alpha) (n + 1) / (2 pi) about +z, alpha the angle from +z: the normalised
 // Phong lobe's own shape, so sampling it has the lobe's variance, not the hemisphere's.
 inline Imath::V3f square_to_cosine_power(const Imath::V2f& u, float n) {
   const float cos_alpha = std::pow(1.0f - u.x, 1.0f / (n + 1.0f));
-  const float sin_alpha = std::sqrt(std::fmax(0.0f, 1.0f - cos_alpha * cos_alpha));
+  const float sin_alpha = std::sqrt(fmax_inline(0.0f, 1.0f - cos_alpha * cos_alpha));
   const float phi = 2.0f * kPi * u.y;
   return Imath::V3f(sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha);
 }

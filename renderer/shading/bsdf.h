@@ -197,17 +197,17 @@ class Bsdf {
   Imath::V3f eval_reflection(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n,
                              float cos_i, const Imath::V3f& f0, const Imath::V3f& f90) const {
     if (lobes_.model == BrdfModel::lecture) return eval_lecture(wo, wi, n);
-    const float cos_o = std::fmax(0.0f, dot(n, wo));
+    const float cos_o = fmax_inline(0.0f, dot(n, wo));
     Imath::V3f h = wo + wi;
     const float h_len = h.length();
     // wi opposite wo (both grazing): the half vector is the normal's limit.
     h = h_len > 0.0f ? h / h_len : n;
-    const float weight = schlick_weight(std::fmax(0.0f, dot(wo, h)));
+    const float weight = schlick_weight(fmax_inline(0.0f, dot(wo, h)));
     const Imath::V3f fresnel_d =
         lobes_.dielectric_f0 + (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * weight;
     const Imath::V3f diffuse = lobes_.diffuse_albedo * (kInvPi * (1.0f - max_of(fresnel_d)));
     if (lobes_.mirror_only) return diffuse;
-    const float alpha = std::fmax(lobes_.alpha, kMinGgxAlpha);
+    const float alpha = fmax_inline(lobes_.alpha, kMinGgxAlpha);
     const float dv = ggx_d(dot(n, h), alpha) * ggx_visibility(cos_i, cos_o, alpha);
     const Imath::V3f fresnel = f0 + (f90 - f0) * weight;
     return diffuse + fresnel * dv;
@@ -230,13 +230,13 @@ class Bsdf {
   // carry the layers' transmittance, so they are taken unattenuated here.
   Imath::V3f base_albedo(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
                          AlbedoScope scope) const {
-    const float cos_v = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
+    const float cos_v = fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n)));
     GgxAlbedo layer{1.0f, schlick_weight(cos_v)};
     if (!lobes_.mirror) layer = ggx_albedo(cos_v, lobes_.alpha);
     const Imath::V3f dielectric_layer =
         lobes_.dielectric_f0 * layer.e +
         (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * layer.e_schlick;
-    Imath::V3f total = lobes_.diffuse_albedo * (1.0f - std::fmin(1.0f, max_of(dielectric_layer)));
+    Imath::V3f total = lobes_.diffuse_albedo * (1.0f - fmin_inline(1.0f, max_of(dielectric_layer)));
     const bool with_delta = scope == AlbedoScope::all_lobes;
     if (!lobes_.mirror || with_delta)
       total += mirror_f0() * layer.e + (mirror_f90() - mirror_f0()) * layer.e_schlick;
@@ -248,7 +248,7 @@ class Bsdf {
     // The rough dielectric's albedo, estimated by the smooth one's (it loses a little to
     // single scattering): what the layers' choice weighs the base by.
     if (lobes_.rough_transmission) {
-      const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
+      const float cos_i = fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n)));
       const float eta = back_face ? 1.0f / lobes_.ior : lobes_.ior;
       const float fresnel = fresnel_dielectric(cos_i, eta);
       total +=
@@ -311,7 +311,7 @@ class Bsdf {
         return out->pdf > 0.0f;
       }
       base_share = 1.0f - l.coat - l.sheen;
-      u_lobe = std::fmin((u_lobe - l.coat - l.sheen) / base_share, 0x1.fffffep-1f);
+      u_lobe = fmin_inline((u_lobe - l.coat - l.sheen) / base_share, 0x1.fffffep-1f);
     }
     const LobeChoice c = choice(wo, n);
     if (u_lobe < c.specular) {
@@ -379,7 +379,7 @@ class Bsdf {
       const Imath::V3f wo_local = to_local(wo, n);
       const Imath::V3f h = sample_ggx_visible_normal(
           wo_local.z > 0.0f ? wo_local : Imath::V3f(wo_local.x, wo_local.y, 1e-6f),
-          std::fmax(lobes_.alpha, kMinGgxAlpha), u);
+          fmax_inline(lobes_.alpha, kMinGgxAlpha), u);
       wi = from_local(h * (2.0f * wo_local.dot(h)) - wo_local, n);
       out->lobe = kGlossyReflection;
     }
@@ -394,7 +394,7 @@ class Bsdf {
   template <bool Mirror, bool Transmission>
   int base_specular_lobes(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
                           SpecularLobe* out) const {
-    const float cos_i = std::fmin(1.0f, std::fmax(0.0f, dot(wo, n)));
+    const float cos_i = fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n)));
     Imath::V3f reflect_weight(0.0f);
     int count = 0;
     if constexpr (Mirror) {
@@ -454,7 +454,7 @@ class Bsdf {
   // The rough dielectric at `n` (normal_towards(wo)) in its local frame.
   RoughDielectric rough_dielectric() const {
     const bool inside = lobes_.back_face && !lobes_.thin_walled;
-    return {std::fmax(lobes_.alpha, kMinGgxAlpha), inside ? 1.0f / lobes_.ior : lobes_.ior,
+    return {fmax_inline(lobes_.alpha, kMinGgxAlpha), inside ? 1.0f / lobes_.ior : lobes_.ior,
             lobes_.thin_walled};
   }
   // Its transmitted light takes the base colour on entry (every pass for a thin wall).
@@ -484,7 +484,7 @@ class Bsdf {
   Imath::V3f eval_lecture(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
     const float lobe_norm = (lobes_.phong_exponent + 2.0f) * (0.5f * kInvPi);
     const Imath::V3f reflected = reflect(-wi, n);
-    const float cos_view = std::fmax(0.0f, dot(reflected, wo));
+    const float cos_view = fmax_inline(0.0f, dot(reflected, wo));
     const float specular = lobes_.phong_exponent > 0.0f
                                ? lobe_norm * std::pow(cos_view, lobes_.phong_exponent)
                                : lobe_norm;
@@ -540,16 +540,16 @@ class Bsdf {
     const float cos_o = dot(n, wo);
     if (!(cos_o > 0.0f)) return 0.0f;
     const Imath::V3f h = normalize(wo + wi);
-    const float alpha = std::fmax(lobes_.alpha, kMinGgxAlpha);
+    const float alpha = fmax_inline(lobes_.alpha, kMinGgxAlpha);
     return ggx_g1(cos_o, alpha) * ggx_d(dot(n, h), alpha) / (4.0f * cos_o);
   }
   static bool has(const Imath::V3f& c) { return c.x > 0.0f || c.y > 0.0f || c.z > 0.0f; }
-  static float max_of(const Imath::V3f& c) { return std::fmax(c.x, std::fmax(c.y, c.z)); }
+  static float max_of(const Imath::V3f& c) { return fmax_inline(c.x, fmax_inline(c.y, c.z)); }
   static Imath::V3f clamp_non_negative(const Imath::V3f& c) {
-    return Imath::V3f(std::fmax(0.0f, c.x), std::fmax(0.0f, c.y), std::fmax(0.0f, c.z));
+    return Imath::V3f(fmax_inline(0.0f, c.x), fmax_inline(0.0f, c.y), fmax_inline(0.0f, c.z));
   }
   static float luminance(const Imath::V3f& c) {
-    return std::fmax(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
+    return fmax_inline(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
   }
 
   Imath::V3f normal_{0.0f, 0.0f, 1.0f};

@@ -91,9 +91,9 @@ struct SurfaceLayers {
            sheen_colour.z > 0.0f;
   }
   float sheen_max() const {
-    return std::fmax(sheen_colour.x, std::fmax(sheen_colour.y, sheen_colour.z));
+    return fmax_inline(sheen_colour.x, fmax_inline(sheen_colour.y, sheen_colour.z));
   }
-  float coat_alpha() const { return std::fmax(clearcoat_alpha, kMinGgxAlpha); }
+  float coat_alpha() const { return fmax_inline(clearcoat_alpha, kMinGgxAlpha); }
   // The coat normal turned as the base's was: `n` is the base normal towards wo, `base` the
   // base's shading normal as stored.
   Imath::V3f coat_normal(const Imath::V3f& n, const Imath::V3f& base) const {
@@ -106,31 +106,31 @@ struct SurfaceLayers {
   // made symmetric in V and L (the sheen's is the extension's own reciprocal form).
   float coat_transmittance(float cos_co, float cos_ci) const {
     if (!(clearcoat > 0.0f)) return 1.0f;
-    return 1.0f - clearcoat * std::fmax(clearcoat_fresnel(std::fmax(0.0f, cos_co)),
-                                        clearcoat_fresnel(std::fmax(0.0f, cos_ci)));
+    return 1.0f - clearcoat * fmax_inline(clearcoat_fresnel(fmax_inline(0.0f, cos_co)),
+                                          clearcoat_fresnel(fmax_inline(0.0f, cos_ci)));
   }
   float sheen_transmittance(float cos_o, float cos_i) const {
     const float s = sheen_max();
     if (!(s > 0.0f)) return 1.0f;
-    return 1.0f - s * std::fmin(1.0f, sheen_peak_albedo(cos_o, cos_i));
+    return 1.0f - s * fmin_inline(1.0f, sheen_peak_albedo(cos_o, cos_i));
   }
   // max(E(N.V), E(N.L)): where it exceeds 1 the sheen lobe is divided by it, so that it
   // never reflects more than it receives (the extension's lobe elsewhere).
   float sheen_peak_albedo(float cos_o, float cos_i) const {
-    return std::fmax(sheen_albedo(std::fmax(0.0f, cos_o), sheen_alpha),
-                     sheen_albedo(std::fmax(0.0f, cos_i), sheen_alpha));
+    return fmax_inline(sheen_albedo(fmax_inline(0.0f, cos_o), sheen_alpha),
+                       sheen_albedo(fmax_inline(0.0f, cos_i), sheen_alpha));
   }
   // The same seen from wo alone, for the delta lobes and the albedo: the mirror direction
   // makes the two cosines equal.
   float view_transmittance(const Imath::V3f& wo, const Imath::V3f& n, const Imath::V3f& nc) const {
-    const float cos_o = std::fmax(0.0f, dot(n, wo)), cos_co = std::fmax(0.0f, dot(nc, wo));
+    const float cos_o = fmax_inline(0.0f, dot(n, wo)), cos_co = fmax_inline(0.0f, dot(nc, wo));
     return coat_transmittance(cos_co, cos_co) * sheen_transmittance(cos_o, cos_o);
   }
 
   // f of the layered surface, `base` the base's f(wo, wi), for wi on wo's side of `n`.
   Imath::V3f eval(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n,
                   const Imath::V3f& nc, const Imath::V3f& base) const {
-    const float cos_o = std::fmax(0.0f, dot(n, wo)), cos_i = dot(n, wi);
+    const float cos_o = fmax_inline(0.0f, dot(n, wo)), cos_i = dot(n, wi);
     Imath::V3f under = base;
     if (sheen_max() > 0.0f) {
       Imath::V3f h = wo + wi;
@@ -138,8 +138,8 @@ struct SurfaceLayers {
       h = h_len > 0.0f ? h / h_len : n;
       const float peak = sheen_peak_albedo(cos_o, cos_i);
       const float dv = charlie_d(dot(n, h), sheen_alpha) *
-                       charlie_visibility(cos_i, cos_o, sheen_alpha) / std::fmax(1.0f, peak);
-      under = sheen_colour * dv + base * (1.0f - sheen_max() * std::fmin(1.0f, peak));
+                       charlie_visibility(cos_i, cos_o, sheen_alpha) / fmax_inline(1.0f, peak);
+      under = sheen_colour * dv + base * (1.0f - sheen_max() * fmin_inline(1.0f, peak));
     }
     if (!(clearcoat > 0.0f)) return under;
     const float cos_co = dot(nc, wo), cos_ci = dot(nc, wi);
@@ -155,7 +155,7 @@ struct SurfaceLayers {
     const float alpha = coat_alpha();
     // V.H and L.H are equal but round differently: their mean is the same either way round.
     const float cos_h = 0.5f * (dot(wo, h) + dot(wi, h));
-    return clearcoat * clearcoat_fresnel(std::fmax(0.0f, cos_h)) * ggx_d(dot(nc, h), alpha) *
+    return clearcoat * clearcoat_fresnel(fmax_inline(0.0f, cos_h)) * ggx_d(dot(nc, h), alpha) *
            ggx_visibility(cos_ci, cos_co, alpha);
   }
 
@@ -193,9 +193,9 @@ struct SurfaceLayers {
   Imath::V3f albedo(const Imath::V3f& wo, const Imath::V3f& n, const Imath::V3f& nc,
                     const Imath::V3f& base, bool with_coat) const {
     const float cos_o = std::clamp(dot(n, wo), 0.0f, 1.0f);
-    const Imath::V3f under = sheen_colour * std::fmin(1.0f, sheen_albedo(cos_o, sheen_alpha)) +
+    const Imath::V3f under = sheen_colour * fmin_inline(1.0f, sheen_albedo(cos_o, sheen_alpha)) +
                              base * sheen_transmittance(cos_o, cos_o);
-    const float cos_co = std::fmax(0.0f, dot(nc, wo));
+    const float cos_co = fmax_inline(0.0f, dot(nc, wo));
     const bool coat = with_coat || !clearcoat_mirror;
     return under * coat_transmittance(cos_co, cos_co) +
            Imath::V3f(coat ? coat_albedo(wo, nc) : 0.0f);
@@ -208,12 +208,12 @@ struct SurfaceLayers {
   };
   Shares shares(const Imath::V3f& wo, const Imath::V3f& n, const Imath::V3f& nc, float base) const {
     const float cos_o = std::clamp(dot(n, wo), 0.0f, 1.0f);
-    const float cos_co = std::fmax(0.0f, dot(nc, wo));
+    const float cos_co = fmax_inline(0.0f, dot(nc, wo));
     const float through_coat = coat_transmittance(cos_co, cos_co);
     const float coat = clearcoat_mirror ? 0.0f : coat_albedo(wo, nc);
     const float sheen =
-        through_coat * sheen_max() * std::fmin(1.0f, sheen_albedo(cos_o, sheen_alpha));
-    const float rest = through_coat * sheen_transmittance(cos_o, cos_o) * std::fmax(0.0f, base);
+        through_coat * sheen_max() * fmin_inline(1.0f, sheen_albedo(cos_o, sheen_alpha));
+    const float rest = through_coat * sheen_transmittance(cos_o, cos_o) * fmax_inline(0.0f, base);
     const float total = coat + sheen + rest;
     if (!(total > 0.0f)) return {};
     return {coat / total, sheen / total};
