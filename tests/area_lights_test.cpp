@@ -4,6 +4,7 @@
 // integrates to 1 over the light's solid angle, and lights are chosen in proportion to power.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -127,6 +128,101 @@ TEST(AreaLights, SphereSamplingMatchesPdfChiSquare) {
   const double cone = 2.0 * kPiD * (1.0 - std::sqrt(1.0 - 1e-4));
   EXPECT_NEAR(s.pdf * cone, 1.0, 1e-3);
   EXPECT_NEAR(small.pdf(V3f(0.0f), s.wi) * cone, 1.0, 1e-3);
+}
+
+// The triangle's solid angle at `point` by Van Oosterom and Strackee's formula, in double
+// from the float corners (the chi-square test checks the sampler's density without it).
+double solid_angle(const V3f& point, const V3f* corners) {
+  Imath::V3d d[3];
+  for (int i = 0; i < 3; ++i) d[i] = (Imath::V3d(corners[i]) - Imath::V3d(point)).normalized();
+  const double triple = std::fabs(d[0].dot(d[1].cross(d[2])));
+  return 2.0 * std::atan2(triple, 1.0 + d[0].dot(d[1]) + d[1].dot(d[2]) + d[2].dot(d[0]));
+}
+
+// Irradiance at `point` (surface normal `n`, facing the triangle) from a triangle of uniform
+// radiance L: Lambert's polygon formula, L / 2 x sum over edges of the edge's angle times the
+// cosine between n and the edge's plane normal.
+double lambert_irradiance(const V3f& point, const V3f& n, const V3f* corners, double radiance) {
+  double sum = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const Imath::V3d a = (Imath::V3d(corners[i]) - Imath::V3d(point)).normalized();
+    const Imath::V3d b = (Imath::V3d(corners[(i + 1) % 3]) - Imath::V3d(point)).normalized();
+    const double angle = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+    sum += angle * a.cross(b).normalized().dot(Imath::V3d(n));
+  }
+  return 0.5 * radiance * std::fabs(sum);
+}
+
+// A triangle that subtends a fair solid angle is sampled uniformly within it: every sample's
+// density is 1 / solid angle, and the estimator of the irradiance it gives a receiver, L cos
+// theta / pdf, is then bounded by L x solid angle, so its standard deviation is at most half
+// that (Popoviciu's inequality) however close the receiver is. Sampled by area, the receiver
+// 0.05 below the panel would see 1 / d^2 spikes far above it. The mean is Lambert's formula.
+TEST(AreaLights, CloseTriangleIsSampledUniformlyInSolidAngle) {
+  constexpr float kRadiance = 3.0f;
+  const Material m = emitting(kRadiance);
+  const EmissivePrimitive panel =
+      triangle(V3f(-1.0f, -1.0f, 1.0f), V3f(1.5f, -0.5f, 1.0f), V3f(0.0f, 1.2f, 1.0f));
+  const AreaLight light(panel, m);
+  const V3f n(0.0f, 0.0f, 1.0f);
+  for (const V3f& point : {V3f(0.0f, 0.0f, 0.95f), V3f(0.9f, -0.8f, 0.9f), V3f(0.2f, 0.1f, 0.0f),
+                           V3f(3.0f, 2.0f, 0.5f)}) {
+    const double omega = solid_angle(point, panel.corners);
+    const double exact = lambert_irradiance(point, n, panel.corners, kRadiance);
+    constexpr int kSamples = 200000;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    double sum = 0.0, sum2 = 0.0, worst_density = 0.0;
+    for (int i = 0; i < kSamples; ++i) {
+      LightSample s;
+      ASSERT_TRUE(light.sample(point, Imath::V2f(u01(rng), u01(rng)), &s));
+      worst_density = std::max(worst_density, std::fabs(s.pdf * omega - 1.0));
+      EXPECT_NEAR(light.pdf(point, s.wi) * omega, 1.0, 1e-4);
+      const double value = s.radiance.x * std::max(0.0f, dot(n, s.wi)) / s.pdf;
+      sum += value;
+      sum2 += value * value;
+    }
+    const double mean = sum / kSamples;
+    const double sd = std::sqrt(std::max(0.0, sum2 / kSamples - mean * mean));
+    std::printf(
+        "panel from (%g, %g, %g): solid angle %.5f sr, density x solid angle off by %.2e; "
+        "irradiance %.6f +- %.6f (Lambert %.6f), sd %.4f <= %.4f\n",
+        point.x, point.y, point.z, omega, worst_density, mean, sd / std::sqrt(kSamples), exact, sd,
+        0.5 * kRadiance * omega);
+    EXPECT_LT(worst_density, 1e-4);
+    EXPECT_NEAR(mean, exact, 4.0 * sd / std::sqrt(kSamples) + 1e-6 * exact);
+    EXPECT_LE(sd, 0.5 * kRadiance * omega * (1.0 + 1e-6));
+  }
+}
+
+// A small triangle far away (compared with its edges) is sampled by area: the density is
+// d^2 / (A cos), and the irradiance estimate agrees with Lambert's formula. (It subtends less
+// than one cell of the chi-square grid, so that test cannot see it.)
+TEST(AreaLights, FarTriangleIsSampledByArea) {
+  const Material m = emitting(1.0f);
+  const EmissivePrimitive small =
+      triangle(V3f(0.0f, 0.0f, 20.0f), V3f(0.3f, 0.0f, 20.0f), V3f(0.0f, 0.3f, 20.0f));
+  const AreaLight light(small, m);
+  const V3f point(0.1f, 0.05f, 0.0f), n(0.0f, 0.0f, 1.0f);
+  ASSERT_LT(solid_angle(point, small.corners), 1e-3);
+  constexpr int kSamples = 100000;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < kSamples; ++i) {
+    LightSample s;
+    ASSERT_TRUE(light.sample(point, Imath::V2f(u01(rng), u01(rng)), &s));
+    const double area_density = double(s.distance) * s.distance / (light.area() * s.wi.z);
+    EXPECT_NEAR(s.pdf / area_density, 1.0, 1e-5);
+    const double value = s.radiance.x * std::max(0.0f, dot(n, s.wi)) / s.pdf;
+    sum += value;
+    sum2 += value * value;
+  }
+  const double mean = sum / kSamples;
+  const double se = std::sqrt(std::max(0.0, sum2 / kSamples - mean * mean) / kSamples);
+  const double exact = lambert_irradiance(point, n, small.corners, 1.0);
+  std::printf("small far triangle: irradiance %.8f +- %.8f (Lambert %.8f)\n", mean, se, exact);
+  EXPECT_NEAR(mean, exact, 4.0 * se + 1e-5 * exact);
 }
 
 TEST(AreaLights, PowerIsPiAreaRadiance) {

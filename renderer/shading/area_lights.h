@@ -4,9 +4,12 @@
 // KHR_materials_emissive_strength folded into the factor by the loader), a radiance leaving
 // both faces alike, as the other integrators show it when a ray meets the surface.
 //
-// Sampling: a triangle uniformly by area, a sphere seen from outside uniformly within the cone
-// it subtends (pbrt-v4's Sphere::Sample), from inside uniformly by area; densities are per unit
-// solid angle at the receiving point (docs/lights.md, "Area lights").
+// Sampling: a triangle uniformly within the solid angle it subtends at the receiving point
+// (Arvo's spherical triangle, renderer/sampling/spherical_triangle.h) when the point is closer
+// to its plane than its longest edge and that angle is between 10^-3 sr and 6 sr, else
+// uniformly by area; a sphere seen from outside uniformly
+// within the cone it subtends (pbrt-v4's Sphere::Sample), from inside uniformly by area.
+// Densities are per unit solid angle at the receiving point (docs/lights.md, "Area lights").
 #pragma once
 
 #include <cstdint>
@@ -54,6 +57,7 @@ class AreaLight {
   Imath::V3f factor_;
   Imath::V3f normal_;  // triangle: unit, of the counter-clockwise face
   float area_ = 0.0f;
+  float longest_edge2_ = 0.0f;  // triangle: its longest edge, squared
 };
 
 // The scene's area lights, one per emitter in EmbreeScene::emitters()'s order, so that a
