@@ -162,6 +162,52 @@ TEST(Bsdf, LambertValue) {
   EXPECT_EQ(bsdf.eval(V3f(0, 0, 1), V3f(0, 0, -1)).x, 0.0f);
 }
 
+// glTF's model without a specular layer (F0 = F90 = 0) is Lambert, which Bsdf evaluates by a
+// shortcut: rho / pi, cos / pi, albedo rho, cosine sampling. The same material with a layer of
+// F0 = F90 = 10^-30 takes the general formulas (GGX, Fresnel, the lobe choice): they must
+// agree to float rounding, and the shortcut must match its own eval and pdf exactly.
+TEST(Bsdf, GltfLambertShortcutEqualsTheGeneralFormulas) {
+  BsdfLobes lambert;
+  lambert.diffuse_albedo = V3f(0.7f, 0.4f, 0.2f);
+  lambert.alpha = 0.5f;
+  BsdfLobes faint = lambert;
+  faint.specular_f0 = faint.specular_f90 = V3f(1e-30f);
+  const V3f n(0.0f, 0.0f, 1.0f);
+  const Bsdf fast = Bsdf(n, lambert).path_traced(), general = Bsdf(n, faint).path_traced();
+  EXPECT_EQ(fast.flags(), kDiffuseReflection);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  int compared = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const V3f wo = spherical(u01(rng), 2.0 * kPiD * u01(rng));
+    const V3f wi = spherical(2.0f * u01(rng) - 1.0f, 2.0 * kPiD * u01(rng));
+    const V3f f = fast.eval(wo, wi), g = general.eval(wo, wi);
+    const float cos_wi = dot(fast.normal_towards(wo), wi);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(f[c], g[c], 1e-6f * g[c] + 1e-30f);
+      EXPECT_EQ(f[c], cos_wi > 0.0f ? lambert.diffuse_albedo[c] / float(kPiD) : 0.0f);
+    }
+    EXPECT_NEAR(fast.pdf(wo, wi), general.pdf(wo, wi), 1e-6f * general.pdf(wo, wi) + 1e-30f);
+    const V3f a = fast.albedo(wo, n, false, AlbedoScope::all_lobes),
+              b = general.albedo(wo, n, false, AlbedoScope::all_lobes);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-6f);
+    BsdfSample sf, sg;
+    const float u_lobe = u01(rng);
+    const Imath::V2f u(u01(rng), u01(rng));
+    const bool ok_f = fast.sample(wo, u_lobe, u, false, &sf);
+    const bool ok_g = general.sample(wo, u_lobe, u, false, &sg);
+    ASSERT_EQ(ok_f, ok_g);
+    if (!ok_f) continue;
+    ++compared;
+    EXPECT_EQ(sf.lobe, kDiffuseReflection);
+    EXPECT_EQ(sf.wi, sg.wi);  // both the cosine lobe of the same u
+    EXPECT_NEAR(sf.pdf, sg.pdf, 1e-6f * sg.pdf);
+    EXPECT_EQ(sf.pdf, fast.pdf(wo, sf.wi));
+    EXPECT_EQ(sf.f, fast.eval(wo, sf.wi));
+  }
+  EXPECT_GT(compared, 1900);
+}
+
 // A clear dielectric of ior 1.5: head-on F = ((n - 1) / (n + 1))^2 = 0.04 reflected and 0.96
 // refracted straight through; past the critical angle from inside, total internal
 // reflection (one lobe, weight 1).

@@ -118,7 +118,10 @@ class Bsdf {
   Bsdf() = default;
   // `shading_normal` unit, on the geometric normal's side.
   Bsdf(const Imath::V3f& shading_normal, const BsdfLobes& lobes)
-      : normal_(shading_normal), lobes_(lobes), layered_(lobes.layers.present()) {}
+      : normal_(shading_normal),
+        lobes_(lobes),
+        layered_(lobes.layers.present()),
+        lambertian_(is_lambertian(lobes, layered_)) {}
 
   const BsdfLobes& lobes() const { return lobes_; }
 
@@ -182,6 +185,7 @@ class Bsdf {
   // The base's f alone, without the layers over it.
   Imath::V3f eval_base(const Imath::V3f& wo, const Imath::V3f& wi, const Imath::V3f& n) const {
     const float cos_i = dot(n, wi);
+    if (lambertian_) return cos_i > 0.0f ? lobes_.diffuse_albedo * kInvPi : Imath::V3f(0.0f);
     if (lobes_.rough_transmission) {
       const Imath::V3f transmitted = rough_dielectric_eval(wo, wi, n);
       if (cos_i <= 0.0f) return transmitted;
@@ -230,6 +234,7 @@ class Bsdf {
   // carry the layers' transmittance, so they are taken unattenuated here.
   Imath::V3f base_albedo(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
                          AlbedoScope scope) const {
+    if (lambertian_) return lobes_.diffuse_albedo;
     const float cos_v = fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n)));
     GgxAlbedo layer{1.0f, schlick_weight(cos_v)};
     if (!lobes_.mirror) layer = ggx_albedo(cos_v, lobes_.alpha);
@@ -263,6 +268,7 @@ class Bsdf {
   float pdf(const Imath::V3f& wo, const Imath::V3f& wi) const {
     const Imath::V3f n = normal_towards(wo);
     const float cos_wi = dot(n, wi);
+    if (lambertian_) return cos_wi > 0.0f ? cos_wi * kInvPi : 0.0f;
     const LobeChoice c = choice(wo, n);
     const float dielectric =
         c.dielectric > 0.0f
@@ -291,6 +297,15 @@ class Bsdf {
   bool sample(const Imath::V3f& wo, float u_lobe, const Imath::V2f& u, bool back_face,
               BsdfSample* out) const {
     const Imath::V3f n = normal_towards(wo);
+    if (lambertian_) {
+      out->wi = from_local(square_to_cosine_hemisphere(u), n);
+      out->lobe = kDiffuseReflection;
+      const float cos_wi = dot(n, out->wi);
+      if (cos_wi <= 0.0f) return false;
+      out->f = lobes_.diffuse_albedo * kInvPi;
+      out->pdf = cos_wi * kInvPi;
+      return out->pdf > 0.0f;
+    }
     // The base's share of the choice, after the layers over it took theirs.
     float base_share = 1.0f;
     if (layered_) {
@@ -544,6 +559,17 @@ class Bsdf {
     return ggx_g1(cos_o, alpha) * ggx_d(dot(n, h), alpha) / (4.0f * cos_o);
   }
   static bool has(const Imath::V3f& c) { return c.x > 0.0f || c.y > 0.0f || c.z > 0.0f; }
+  // glTF's model with no specular layer (F0 = F90 = 0: KHR_materials_specular's factor 0, or
+  // an importer's diffuse-only material), nothing transmitted and no coat or sheen: a Lambert
+  // surface, and most of a Cornell box. Every general formula then reduces to rho / pi, cos /
+  // pi and rho exactly (the layer's terms are exact zeros, the diffuse's share exactly 1), so
+  // the shortcut changes no bit; it only skips the GGX terms that would multiply by zero.
+  static bool is_lambertian(const BsdfLobes& l, bool layered) {
+    const Imath::V3f zero(0.0f);
+    return l.model == BrdfModel::gltf && !layered && l.transmission == 0.0f &&
+           l.specular_f0 == zero && l.specular_f90 == zero && l.dielectric_f0 == zero &&
+           l.dielectric_f90 == 0.0f && luminance(l.diffuse_albedo) > 0.0f;
+  }
   static float max_of(const Imath::V3f& c) { return fmax_inline(c.x, fmax_inline(c.y, c.z)); }
   static Imath::V3f clamp_non_negative(const Imath::V3f& c) {
     return Imath::V3f(fmax_inline(0.0f, c.x), fmax_inline(0.0f, c.y), fmax_inline(0.0f, c.z));
@@ -554,7 +580,8 @@ class Bsdf {
 
   Imath::V3f normal_{0.0f, 0.0f, 1.0f};
   BsdfLobes lobes_;
-  bool layered_ = false;  // lobes_.layers.present(): a coat or a sheen to evaluate
+  bool layered_ = false;     // lobes_.layers.present(): a coat or a sheen to evaluate
+  bool lambertian_ = false;  // is_lambertian(): eval, pdf, sample and albedo take a shortcut
 };
 
 }  // namespace prism
