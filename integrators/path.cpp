@@ -192,8 +192,8 @@ struct PathTracer {
       const PixelSample2D u_light = sampler.get2d();
       const PixelSample2D u_bsdf = sampler.get2d();
       const float u_choice = sampler.get1d();
-      const float u_lobe = sampler.get1d();
-      const float u_roulette = sampler.get1d();
+      // The lobe's and the roulette's dimensions are drawn only where they are used.
+      const uint32_t lobe_dimension = sampler.dimension(), roulette_dimension = lobe_dimension + 1;
 
       // Lights are sampled from the shadow rays' origin, off the surface on the lit side: a
       // point on an emissive sphere itself is then unambiguously inside or outside it.
@@ -204,13 +204,14 @@ struct PathTracer {
                                inside ? &absorption : nullptr, counters));
 
       BsdfSample bs;
+      const float u_lobe = bsdf.single_lobe() ? 0.0f : sampler.get1d_at(lobe_dimension);
       if (!bsdf.sample(wo, u_lobe, Imath::V2f(u_bsdf.x, u_bsdf.y), hit.back_face, &bs)) break;
       beta = hadamard(beta, bs.f) * (std::fabs(dot(n, bs.wi)) / bs.pdf);
       bsdf_pdf = bs.specular() || bs.lobe == kGlossyTransmission ? -1.0f : bs.pdf;
       from = reference;
       if (depth + 1 >= params.roulette_depth) {
         const float survive = fmin_inline(1.0f, max_component(beta));
-        if (!(u_roulette < survive)) break;
+        if (!(sampler.get1d_at(roulette_dimension) < survive)) break;
         beta /= survive;
       }
       const V3f outside = face_forward(hit.geometric_normal, wo);

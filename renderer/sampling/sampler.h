@@ -195,6 +195,10 @@ class PixelSampler {
     return p;
   }
   uint32_t dimension() const { return dimension_; }
+  // Dimension `dimension` alone, without moving on: for a value an integrator needs only on
+  // some paths (a lobe choice, a roulette), drawn where it is needed from the dimension it
+  // would have had in order, so skipping it changes no other value.
+  float get1d_at(uint32_t dimension) const { return dimension_value(dimension); }
 
  private:
   float dimension_value(uint32_t dimension) const {

@@ -292,6 +292,9 @@ class Bsdf {
     return density;
   }
 
+  // One lobe only (Lambert): sample() ignores its `u_lobe`, which a caller need not draw.
+  bool single_lobe() const { return lambertian_; }
+
   // Picks a lobe with `u_lobe` (in proportion to its albedo estimate) and a direction with
   // `u`; false when nothing scatters or the direction falls below the surface.
   bool sample(const Imath::V3f& wo, float u_lobe, const Imath::V2f& u, bool back_face,
