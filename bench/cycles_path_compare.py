@@ -6,7 +6,7 @@
         [--cycles-spp 512] [--prism-spp 512] [--scenes cornell,sweep,asset]
         [--images docs/images] [--skip-blender] [--noise]
     /usr/bin/python3 bench/cycles_path_compare.py --equal-error [--scenes cornell]
-        [--equal-error-res WxH] [--reference-spp 4096] [--test-spp 128]
+        [--equal-error-res WxH] [--reference-spp 4096] [--test-spp 128] [--repeats 5]
 
 Scenes, each one .glb (or .gltf) read by both renderers:
 - cornell: scenes/cornell.gltf, lit by its emissive ceiling panel only, black world. Its
@@ -42,6 +42,7 @@ import argparse
 import json
 import math
 import os
+import statistics
 import struct
 import sys
 import time
@@ -315,39 +316,58 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
     """Each renderer against its own high-spp reference, at `res`: relMSE at
     --test-spp and the render time. relMSE falls as 1/time for an unbiased renderer, so
     the time to equal error is proportional to relMSE * time; the ratio of the two is
-    Prism time / Cycles time at equal error."""
-    figures = {}
-    for spp in (args.reference_spp, args.test_spp):
-        exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, spp))
+    Prism time / Cycles time at equal error. The test renders are timed --repeats times,
+    Prism and Cycles in turn, and the medians kept (a render of a few seconds on a shared
+    machine varies by tens of per cent from one run to the next)."""
+
+    def cycles_cmd(exr, spp, seed):
         cmd = ["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                CYCLES_SCRIPT, "--", glb, exr, "--res", res, "--spp", str(spp), "--threads",
                str(args.threads), "--max-bounces", str(args.max_depth - 1), "--no-key-light",
-               "--seed", "7" if spp == args.reference_spp else "0"] + extra
-        if environment:
-            cmd += ["--environment", environment]
-        text, _ = run(cmd, exr + ".log")
-        seconds = float(next(l.split()[1] for l in text.splitlines()
-                             if l.startswith("PEER_RENDER_TIME")))
-        figures[("cycles", spp)] = (read_rgba(exr), seconds)
-        exr = os.path.join(out, "ee_prism_%s_%d.exr" % (name, spp))
+               "--seed", seed] + extra
+        return cmd + (["--environment", environment] if environment else [])
+
+    def prism_cmd(exr, spp):
         cmd = [prism, "render", glb, "-o", exr, "--integrator", "path", "--spp", str(spp),
                "--max-depth", str(args.max_depth), "--res", res, "--threads",
                str(args.threads), "--quiet"]
-        if environment:
-            cmd += ["--environment", environment]
-        _, seconds = run(cmd, exr + ".log")
-        figures[("prism", spp)] = (read_rgba(exr), seconds)
-    row = {"res": res, "test_spp": args.test_spp, "reference_spp": args.reference_spp}
+        return cmd + (["--environment", environment] if environment else [])
+
+    def cycles_seconds(text):
+        return float(next(l.split()[1] for l in text.splitlines()
+                          if l.startswith("PEER_RENDER_TIME")))
+
+    references = {}
+    exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, args.reference_spp))
+    run(cycles_cmd(exr, args.reference_spp, "7"), exr + ".log")
+    references["cycles"] = read_rgba(exr)
+    exr = os.path.join(out, "ee_prism_%s_%d.exr" % (name, args.reference_spp))
+    run(prism_cmd(exr, args.reference_spp), exr + ".log")
+    references["prism"] = read_rgba(exr)
+
+    times = {"prism": [], "cycles": []}
+    images = {}
+    for _ in range(args.repeats):
+        exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, args.test_spp))
+        text, _ = run(cycles_cmd(exr, args.test_spp, "0"), exr + ".log")
+        times["cycles"].append(cycles_seconds(text))
+        images["cycles"] = read_rgba(exr)
+        exr = os.path.join(out, "ee_prism_%s_%d.exr" % (name, args.test_spp))
+        _, seconds = run(prism_cmd(exr, args.test_spp), exr + ".log")
+        times["prism"].append(seconds)
+        images["prism"] = read_rgba(exr)
+    row = {"res": res, "test_spp": args.test_spp, "reference_spp": args.reference_spp,
+           "repeats": args.repeats}
     for who in ("prism", "cycles"):
-        image, seconds = figures[(who, args.test_spp)]
-        row[who + "_rel_mse"] = rel_mse(image, figures[(who, args.reference_spp)][0])
-        row[who + "_seconds"] = seconds
+        row[who + "_rel_mse"] = rel_mse(images[who], references[who])
+        row[who + "_seconds"] = statistics.median(times[who])
+        row[who + "_seconds_all"] = times[who]
     row["time_to_equal_error_prism_over_cycles"] = (
         row["prism_rel_mse"] * row["prism_seconds"]) / (row["cycles_rel_mse"] * row["cycles_seconds"])
     print("%s equal error at %s, %d spp against %d spp of each: Prism relMSE %.4g in %.2f s, "
-          "Cycles relMSE %.4g in %.2f s: Prism time / Cycles time = %.3f" %
+          "Cycles relMSE %.4g in %.2f s (medians of %d): Prism time / Cycles time = %.3f" %
           (name, res, args.test_spp, args.reference_spp, row["prism_rel_mse"],
-           row["prism_seconds"], row["cycles_rel_mse"], row["cycles_seconds"],
+           row["prism_seconds"], row["cycles_rel_mse"], row["cycles_seconds"], args.repeats,
            row["time_to_equal_error_prism_over_cycles"]))
     results[name + " equal error"] = row
 
@@ -371,6 +391,9 @@ def main():
                         help="default: half the scene's resolution each way")
     parser.add_argument("--reference-spp", type=int, default=4096)
     parser.add_argument("--test-spp", type=int, default=128)
+    parser.add_argument("--repeats", type=int, default=5,
+                        help="times each test render is timed (medians), Prism and Cycles "
+                             "in turn")
     parser.add_argument("--skip-blender", action="store_true",
                         help="reuse the Cycles renders already in --out")
     args = parser.parse_args()

@@ -141,10 +141,10 @@ struct PathTracer {
     } else {
       const Environment& env = context.scene.environment();
       if (camera_ray) return env.background(direction);
-      const V3f radiance = env.radiance(direction);
-      if (bsdf_pdf < 0.0f) return radiance;
-      const float light_pdf =
-          context.scene.emitter_sampler().pmf_environment() * env.pdf(direction);
+      if (bsdf_pdf < 0.0f) return env.radiance(direction);
+      float env_pdf = 0.0f;
+      const V3f radiance = env.radiance_and_pdf(direction, &env_pdf);
+      const float light_pdf = context.scene.emitter_sampler().pmf_environment() * env_pdf;
       return radiance * params.bsdf_weight(bsdf_pdf, light_pdf);
     }
   }

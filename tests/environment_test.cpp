@@ -243,6 +243,18 @@ TEST(Environment, SampleLandsInTheTexelItCameFrom) {
     ASSERT_EQ(s.pdf, sun.pdf(s.wi));
     ASSERT_GT(s.pdf, 0.0f);
   }
+  // radiance_and_pdf() is the two lookups in one, in every direction, for a map and for a
+  // uniform environment.
+  const Environment uniform(V3f(0.5f, 0.25f, 1.0f));
+  for (int i = 0; i < 20000; ++i) {
+    const V3f d = normalize(V3f(2.0f * u01(rng) - 1.0f, 2.0f * u01(rng) - 1.0f,
+                                2.0f * u01(rng) - 1.0f));
+    for (const Environment* e : {&sun, &uniform}) {
+      float pdf = -1.0f;
+      ASSERT_EQ(e->radiance_and_pdf(d, &pdf), e->radiance(d));
+      ASSERT_EQ(pdf, e->pdf(d));
+    }
+  }
 }
 
 TEST(Environment, BlackMapsAndUniformEnvironments) {

@@ -201,9 +201,19 @@ bool Environment::sample(const Imath::V2f& u, EnvironmentSample* out) const {
   out->wi = wi.normalized();
   // Read back through the lookup radiance() and pdf() use, so that the three agree exactly
   // even where rounding puts wi on the far side of a texel's edge.
-  out->radiance = map_radiance(out->wi);
-  out->pdf = pdf(out->wi);
+  out->radiance = radiance_and_pdf(out->wi, &out->pdf);
   return out->pdf > 0.0f;
+}
+
+Imath::V3f Environment::radiance_and_pdf(const Imath::V3f& wi, float* pdf) const {
+  if (black_ || !map_) {
+    *pdf = this->pdf(wi);
+    return radiance(wi);
+  }
+  int column = 0, row = 0;
+  const size_t texel = map_->texel_index(wi, &column, &row);
+  *pdf = map_pdf(wi, column, row);
+  return map_->texels[texel];
 }
 
 float Environment::pdf(const Imath::V3f& wi) const {
@@ -211,6 +221,10 @@ float Environment::pdf(const Imath::V3f& wi) const {
   if (!map_) return 1.0f / (4.0f * std::numbers::pi_v<float>);
   int column = 0, row = 0;
   map_->texel_index(wi, &column, &row);
+  return map_pdf(wi, column, row);
+}
+
+float Environment::map_pdf(const Imath::V3f& wi, int column, int row) const {
   // From x and z, not sqrt(1 - y^2): near the poles y rounds to 1 while x and z still say
   // how far from the pole the direction is.
   const double sin_theta = std::hypot(double(wi.x), double(wi.z));

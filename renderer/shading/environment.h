@@ -64,6 +64,9 @@ class Environment {
   bool sample(const Imath::V2f& u, EnvironmentSample* out) const;
   // The density sample() gives direction `wi` (unit).
   float pdf(const Imath::V3f& wi) const;
+  // radiance(wi) and pdf(wi) at once, with one lookup of the texel: what a path that escapes
+  // after a BSDF sample needs to weigh the light it finds.
+  Imath::V3f radiance_and_pdf(const Imath::V3f& wi, float* pdf) const;
   // Power (W per channel) through a sphere of `scene_radius` around the scene: what the
   // environment delivers to the scene, for choosing between it and the scene's lights:
   // pi r^2 times the integral of the radiance over the sphere.
@@ -82,6 +85,8 @@ class Environment {
  private:
   struct Map;
   Imath::V3f map_radiance(const Imath::V3f& direction) const;
+  // The map's density at `wi`, which falls in texel (column, row).
+  float map_pdf(const Imath::V3f& wi, int column, int row) const;
 
   Imath::V3f radiance_{0.0f, 0.0f, 0.0f};  // uniform only
   std::shared_ptr<const Map> map_;
