@@ -13,11 +13,29 @@ PiecewiseConstant1D::PiecewiseConstant1D(std::span<const double> weights) {
   for (size_t i = 1; i <= n; ++i)
     cdf_[i] = total_ > 0.0 ? cdf_[i] / total_ : static_cast<double>(i) / static_cast<double>(n);
   cdf_[n] = 1.0;
+  guide_.assign(n + 1, 0);
+  size_t entry = 0;
+  for (size_t k = 0; k <= n; ++k) {
+    const double start = cell_start(k);
+    while (entry <= n && cdf_[entry] <= start) ++entry;
+    guide_[k] = entry;
+  }
 }
 
 double PiecewiseConstant1D::sample(double u, size_t* bin, double* density) const {
   // The last bin whose CDF is <= u: its successor's CDF is > u, so the bin has weight.
-  const auto above = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+  auto above = cdf_.end();
+  const size_t n = size();
+  if (u >= 0.0 && u < 1.0) {
+    size_t k = std::min(static_cast<size_t>(u * static_cast<double>(n)), n - 1);
+    // u * n rounds, and may land in a neighbouring cell: step to the one that holds u.
+    while (k > 0 && cell_start(k) > u) --k;
+    while (k + 1 < n && cell_start(k + 1) <= u) ++k;
+    above = std::upper_bound(cdf_.begin() + static_cast<ptrdiff_t>(guide_[k]),
+                             cdf_.begin() + static_cast<ptrdiff_t>(guide_[k + 1]), u);
+  } else {
+    above = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+  }
   const size_t b =
       std::min(static_cast<size_t>(std::max<ptrdiff_t>(above - cdf_.begin() - 1, 0)), size() - 1);
   const double width = cdf_[b + 1] - cdf_[b];

@@ -2,6 +2,11 @@
 // and two dimensions (pbrt-v4's PiecewiseConstant1D and 2D): what an environment map is
 // importance sampled by. The density of each bin is computed from the very CDF that
 // sampling inverts, so what sample() draws and what density() reports agree exactly.
+//
+// The inversion starts from a guide table (Chen and Asau's cutpoints): for each of size()
+// equal cells of u, the range of CDF entries its u can land between, so a search visits a
+// bin or two instead of log2(size()) scattered entries, and finds exactly the bin a binary
+// search of the whole CDF finds.
 #pragma once
 
 #include <cstddef>
@@ -27,7 +32,13 @@ class PiecewiseConstant1D {
   }
 
  private:
+  // The lower end of cell k of u; build and lookup compute it the same way.
+  double cell_start(size_t k) const { return static_cast<double>(k) / static_cast<double>(size()); }
+
   std::vector<double> cdf_;  // cdf_[0] = 0, cdf_[size()] = 1
+  // guide_[k]: the first CDF entry above cell_start(k), k = 0 .. size() (cell_start = 1
+  // there); a u in cell k has its first entry above it in [guide_[k], guide_[k + 1]].
+  std::vector<size_t> guide_;
   double total_ = 0.0;
 };
 
