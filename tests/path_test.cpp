@@ -270,7 +270,8 @@ TEST(PathIntegrator, MisLightOnlyAndBsdfOnlyAgree) {
 }
 
 // Russian roulette changes the noise, not the mean: a closed grey box lit by a panel, with
-// roulette after 3 bounces and without (both stopped at 32).
+// roulette after 1 and after 3 bounces and without (all stopped at 32), and it does end paths:
+// fewer bounce rays than without.
 TEST(PathIntegrator, RussianRouletteIsUnbiased) {
   SceneDescription scene;
   scene.materials.push_back(lambert_like(0.7f));
@@ -278,12 +279,20 @@ TEST(PathIntegrator, RussianRouletteIsUnbiased) {
   scene.spheres.push_back(Sphere{V3d(0.0), 2.0, 0, "room"});
   scene.spheres.push_back(Sphere{V3d(0.0, 1.2, 1.0), 0.2, 1, "lamp"});  // behind the camera
   scene.cameras.push_back(ortho_camera_looking_down_z(0.0, 1.0));
-  const Image with = render_path(scene, film(32, 64), {32, 3, 0}).image;
-  const Image without = render_path(scene, film(32, 64), {32, 1024, 0}).image;
-  const Estimate d = difference(without, with);
-  std::printf("roulette after 3: %.5f; none: %.5f; difference %+.5f +- %.5f (%.2f sigma)\n",
-              estimate(with).mean, estimate(without).mean, d.mean, d.error, d.mean / d.error);
-  EXPECT_NEAR(d.mean, 0.0, 4.0 * d.error);
+  const testing::Rendered without = render_path(scene, film(32, 64), {32, 1024, 0});
+  for (int depth : {1, 3}) {
+    const testing::Rendered with = render_path(scene, film(32, 64), {32, depth, 0});
+    const Estimate d = difference(without.image, with.image);
+    std::printf(
+        "roulette after %d: %.5f; none: %.5f; difference %+.5f +- %.5f (%.2f sigma); "
+        "bounce rays %llu against %llu\n",
+        depth, estimate(with.image).mean, estimate(without.image).mean, d.mean, d.error,
+        d.mean / d.error, static_cast<unsigned long long>(with.result.rays[RayKind::bounce]),
+        static_cast<unsigned long long>(without.result.rays[RayKind::bounce]));
+    EXPECT_NEAR(d.mean, 0.0, 4.0 * d.error) << depth;
+    EXPECT_LT(with.result.rays[RayKind::bounce], without.result.rays[RayKind::bounce] * 3 / 4)
+        << depth;
+  }
 }
 
 // KHR_materials_unlit: every integrator shows the base colour, lit or not, and nothing
