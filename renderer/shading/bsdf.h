@@ -149,6 +149,12 @@ class Bsdf {
     return b;
   }
   const Imath::V3f& shading_normal() const { return normal_; }
+  // The same lobes about another shading normal (unit, on its geometric normal's side).
+  Bsdf with_shading_normal(const Imath::V3f& shading_normal) const {
+    Bsdf b = *this;
+    b.normal_ = shading_normal;
+    return b;
+  }
   // The shading normal on wo's side: the hemisphere the reflection lobes live in.
   Imath::V3f normal_towards(const Imath::V3f& wo) const { return face_forward(normal_, wo); }
 

@@ -165,6 +165,78 @@ SurfaceLayers layers_of(const Material& material, const SurfaceHit& hit, SlotRea
   return l;
 }
 
+// evaluate() without the uniform response: every slot read at the hit.
+SurfaceResponse evaluate_in_full(const Material& material, const SurfaceHit& hit) {
+  SlotReader read(hit);
+  Rgb base = material.base_colour;
+  float alpha = material.alpha;
+  if (material.base_colour_texture.texture) {
+    const V4f t = read.sample(material.base_colour_texture);
+    base = hadamard(base, Rgb(t.x, t.y, t.z));
+    alpha *= t.w;
+  }
+  if (hit.attributes && !hit.attributes->colours.empty()) {
+    const V4f c = hit.interpolate(hit.attributes->colours);
+    base = hadamard(base, Rgb(c.x, c.y, c.z) * material.rec709_to_working);
+    alpha *= c.w;
+  }
+  float metallic = material.metallic, roughness = material.roughness;
+  if (material.metallic_roughness_texture.texture) {
+    const V4f t = read.sample(material.metallic_roughness_texture);
+    roughness *= t.y;  // glTF: roughness in green, metallic in blue
+    metallic *= t.z;
+  }
+  if (material.unlit) {
+    // No lobe: the base colour is what the surface sends, whatever lights it.
+    SurfaceResponse r;
+    r.bsdf = Bsdf(hit.shading_normal, BsdfLobes{});
+    r.emission = base;
+    r.alpha = alpha;
+    return r;
+  }
+  const Rgb emission = emission_of(material, read);
+
+  // glTF's mix(dielectric_brdf, metal_brdf, metallic): the metal's layer reflects the base
+  // colour (conductor_fresnel), the dielectric's F0 from the ior, tinted and weighted by
+  // KHR_materials_specular, with F90 its weight (fresnel_mix), over a base that is Lambert
+  // where it is not transmissive.
+  const float f0_ior = dielectric_f0(material.ior);
+  const Rgb f0(std::min(f0_ior * material.specular_colour.x, 1.0f) * material.specular,
+               std::min(f0_ior * material.specular_colour.y, 1.0f) * material.specular,
+               std::min(f0_ior * material.specular_colour.z, 1.0f) * material.specular);
+  const float dielectric = 1.0f - metallic;
+  BsdfLobes lobes;
+  lobes.model = material.brdf;
+  lobes.transmission = dielectric * material.transmission;
+  lobes.diffuse_albedo = base * (dielectric * (1.0f - material.transmission));
+  lobes.dielectric_f0 = f0;
+  lobes.dielectric_f90 = material.specular;
+  lobes.specular_f0 = f0 * dielectric + base * metallic;
+  lobes.specular_f90 = Rgb(material.specular * dielectric + metallic);
+  lobes.alpha = roughness * roughness;
+  lobes.phong_exponent = phong_exponent_from_roughness(roughness);
+  lobes.mirror = roughness <= kMirrorRoughness;
+  lobes.ior = material.ior;
+  lobes.transmission_tint = base;
+  if (material.clearcoat > 0.0f || material.sheen_colour.x > 0.0f ||
+      material.sheen_colour.y > 0.0f || material.sheen_colour.z > 0.0f)
+    lobes.layers = layers_of(material, hit, read);
+  lobes.thin_walled = material.thin_walled;
+  SurfaceResponse r;
+  r.bsdf = Bsdf(material.normal_texture.texture
+                    ? bend_normal(hit, read.sample(material.normal_texture), material.normal_scale)
+                    : hit.shading_normal,
+                lobes);
+  r.emission = emission;
+  if (material.occlusion_texture.texture) {
+    const float occlusion = read.sample(material.occlusion_texture).x;  // glTF: red
+    r.ambient_occlusion =
+        std::clamp(1.0f + material.occlusion_strength * (occlusion - 1.0f), 0.0f, 1.0f);
+  }
+  r.alpha = alpha;
+  return r;
+}
+
 }  // namespace
 
 Rgb emitted_radiance(const Material& material, const SurfaceHit& hit) {
@@ -254,6 +326,24 @@ Material make_material(const MaterialDescription& d, const std::vector<Texture>&
   m.sheen_roughness_texture =
       make_slot(d.sheen_roughness_texture, d.sheen_roughness_mapping, textures);
   m.unlit = d.unlit;
+  const TextureSlot* const slots[] = {&m.base_colour_texture,
+                                      &m.metallic_roughness_texture,
+                                      &m.emissive_texture,
+                                      &m.normal_texture,
+                                      &m.occlusion_texture,
+                                      &m.clearcoat_texture,
+                                      &m.clearcoat_roughness_texture,
+                                      &m.clearcoat_normal_texture,
+                                      &m.sheen_colour_texture,
+                                      &m.sheen_roughness_texture};
+  const bool textured = std::any_of(std::begin(slots), std::end(slots),
+                                    [](const TextureSlot* s) { return s->texture; });
+  if (!textured && !(m.clearcoat > 0.0f)) {
+    // Read nowhere but for the shading normal, which evaluate() replaces.
+    SurfaceHit anywhere;
+    anywhere.shading_normal = anywhere.geometric_normal = V3f(0.0f, 0.0f, 1.0f);
+    m.uniform_response = evaluate_in_full(m, anywhere);
+  }
   return m;
 }
 
@@ -267,74 +357,12 @@ float base_colour_alpha(const Material& material, const SurfaceHit& hit) {
 }
 
 SurfaceResponse evaluate(const Material& material, const SurfaceHit& hit) {
-  SlotReader read(hit);
-  Rgb base = material.base_colour;
-  float alpha = material.alpha;
-  if (material.base_colour_texture.texture) {
-    const V4f t = read.sample(material.base_colour_texture);
-    base = hadamard(base, Rgb(t.x, t.y, t.z));
-    alpha *= t.w;
-  }
-  if (hit.attributes && !hit.attributes->colours.empty()) {
-    const V4f c = hit.interpolate(hit.attributes->colours);
-    base = hadamard(base, Rgb(c.x, c.y, c.z) * material.rec709_to_working);
-    alpha *= c.w;
-  }
-  float metallic = material.metallic, roughness = material.roughness;
-  if (material.metallic_roughness_texture.texture) {
-    const V4f t = read.sample(material.metallic_roughness_texture);
-    roughness *= t.y;  // glTF: roughness in green, metallic in blue
-    metallic *= t.z;
-  }
-  if (material.unlit) {
-    // No lobe: the base colour is what the surface sends, whatever lights it.
-    SurfaceResponse r;
-    r.bsdf = Bsdf(hit.shading_normal, BsdfLobes{});
-    r.emission = base;
-    r.alpha = alpha;
+  if (material.uniform_response && !(hit.attributes && !hit.attributes->colours.empty())) {
+    SurfaceResponse r = *material.uniform_response;
+    r.bsdf = r.bsdf.with_shading_normal(hit.shading_normal);
     return r;
   }
-  const Rgb emission = emission_of(material, read);
-
-  // glTF's mix(dielectric_brdf, metal_brdf, metallic): the metal's layer reflects the base
-  // colour (conductor_fresnel), the dielectric's F0 from the ior, tinted and weighted by
-  // KHR_materials_specular, with F90 its weight (fresnel_mix), over a base that is Lambert
-  // where it is not transmissive.
-  const float f0_ior = dielectric_f0(material.ior);
-  const Rgb f0(std::min(f0_ior * material.specular_colour.x, 1.0f) * material.specular,
-               std::min(f0_ior * material.specular_colour.y, 1.0f) * material.specular,
-               std::min(f0_ior * material.specular_colour.z, 1.0f) * material.specular);
-  const float dielectric = 1.0f - metallic;
-  BsdfLobes lobes;
-  lobes.model = material.brdf;
-  lobes.transmission = dielectric * material.transmission;
-  lobes.diffuse_albedo = base * (dielectric * (1.0f - material.transmission));
-  lobes.dielectric_f0 = f0;
-  lobes.dielectric_f90 = material.specular;
-  lobes.specular_f0 = f0 * dielectric + base * metallic;
-  lobes.specular_f90 = Rgb(material.specular * dielectric + metallic);
-  lobes.alpha = roughness * roughness;
-  lobes.phong_exponent = phong_exponent_from_roughness(roughness);
-  lobes.mirror = roughness <= kMirrorRoughness;
-  lobes.ior = material.ior;
-  lobes.transmission_tint = base;
-  if (material.clearcoat > 0.0f || material.sheen_colour.x > 0.0f ||
-      material.sheen_colour.y > 0.0f || material.sheen_colour.z > 0.0f)
-    lobes.layers = layers_of(material, hit, read);
-  lobes.thin_walled = material.thin_walled;
-  SurfaceResponse r;
-  r.bsdf = Bsdf(material.normal_texture.texture
-                    ? bend_normal(hit, read.sample(material.normal_texture), material.normal_scale)
-                    : hit.shading_normal,
-                lobes);
-  r.emission = emission;
-  if (material.occlusion_texture.texture) {
-    const float occlusion = read.sample(material.occlusion_texture).x;  // glTF: red
-    r.ambient_occlusion =
-        std::clamp(1.0f + material.occlusion_strength * (occlusion - 1.0f), 0.0f, 1.0f);
-  }
-  r.alpha = alpha;
-  return r;
+  return evaluate_in_full(material, hit);
 }
 
 }  // namespace prism

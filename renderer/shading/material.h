@@ -3,6 +3,7 @@
 // units (docs/materials.md has the formulas). All colours are RGB in the working colour space.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Imath/ImathMatrix.h>
@@ -42,6 +43,19 @@ struct TextureSlot {
   }
 };
 
+// What a material is at one surface point: its BSDF (renderer/shading/bsdf.h), the light it
+// emits, and the two factors of glTF's model that are not scattering.
+struct SurfaceResponse {
+  // Its shading normal is the hit's, bent by the material's normal map where it has one:
+  // integrators shade with this, not SurfaceHit's.
+  Bsdf bsdf;
+  Rgb emission;  // emitted radiance
+  // The occlusion texture's factor 1 + strength (occlusion - 1), in [0, 1]: it scales the
+  // ambient term only, glTF's "indirect light" (docs/materials.md, "Occlusion").
+  float ambient_occlusion = 1.0f;
+  float alpha = 1.0f;  // baseColorFactor's alpha x the texture's x COLOR_0's
+};
+
 // The material with its factors in the working space and its textures resolved.
 struct Material {
   Rgb base_colour{1.0f, 1.0f, 1.0f};
@@ -77,19 +91,14 @@ struct Material {
   TextureSlot sheen_colour_texture, sheen_roughness_texture;
   BrdfModel brdf = BrdfModel::gltf;
   bool unlit = false;  // KHR_materials_unlit: emits its base colour, scatters nothing
-};
 
-// What a material is at one surface point: its BSDF (renderer/shading/bsdf.h), the light it
-// emits, and the two factors of glTF's model that are not scattering.
-struct SurfaceResponse {
-  // Its shading normal is the hit's, bent by the material's normal map where it has one:
-  // integrators shade with this, not SurfaceHit's.
-  Bsdf bsdf;
-  Rgb emission;  // emitted radiance
-  // The occlusion texture's factor 1 + strength (occlusion - 1), in [0, 1]: it scales the
-  // ambient term only, glTF's "indirect light" (docs/materials.md, "Occlusion").
-  float ambient_occlusion = 1.0f;
-  float alpha = 1.0f;  // baseColorFactor's alpha x the texture's x COLOR_0's
+  // What evaluate() gives wherever the surface has no vertex colours, when nothing else
+  // varies over it (no texture in any slot, no clearcoat, whose normal is the hit's), with
+  // the shading normal left for the hit's. A Cornell box's or an engine's materials are
+  // then a copy per hit instead of being rebuilt from their factors: the same bits, a tenth
+  // of the work. make_material fills it; a Material put together field by field leaves it
+  // empty and evaluate() builds every response in full.
+  std::optional<SurfaceResponse> uniform_response;
 };
 
 Material make_material(const MaterialDescription& description, const std::vector<Texture>& textures,
