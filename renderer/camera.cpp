@@ -20,15 +20,16 @@ std::string number(double v) {
   return buffer;
 }
 
-// Where the ray o + t d (d unit) enters `box`, or 0 when o is inside it or the ray misses it.
-double entry_distance(const Imath::Box3d& box, const V3d& o, const V3d& d) {
+// Where the ray o + t d (d unit) enters the box whose corners are o + to_min and
+// o + to_max, or 0 when o is inside it or the ray misses it.
+double entry_distance(const V3d& to_min, const V3d& to_max, const V3d& d) {
   double t_in = 0.0, t_out = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 3; ++i) {
     if (d[i] == 0.0) {
-      if (o[i] < box.min[i] || o[i] > box.max[i]) return 0.0;
+      if (to_min[i] > 0.0 || to_max[i] < 0.0) return 0.0;
       continue;
     }
-    double t0 = (box.min[i] - o[i]) / d[i], t1 = (box.max[i] - o[i]) / d[i];
+    double t0 = to_min[i] / d[i], t1 = to_max[i] / d[i];
     if (t0 > t1) std::swap(t0, t1);
     t_in = std::max(t_in, t0);
     t_out = std::min(t_out, t1);
@@ -135,20 +136,32 @@ Camera::Camera(const CameraDescription& description, int image_width, int image_
     const double margin = 0x1.0p-10 * size + 0x1.0p-20 * largest;
     if (std::isfinite(margin)) bounds_ = Imath::Box3d(lo - V3d(margin), hi + V3d(margin));
   }
+  width_d_ = width_;
+  height_d_ = height_;
+  pixel_width_ = 2.0 * half_height_ / height_;
+  to_bounds_min_ = bounds_.min - origin_;
+  to_bounds_max_ = bounds_.max - origin_;
+  // A perspective camera's rays all start at origin_: inside the bounds (closed), every
+  // one's entry distance is 0.
+  advances_ = !bounds_.isEmpty() &&
+              !(description.projection == Projection::perspective && bounds_.intersects(origin_));
 }
 
 Ray Camera::generate_ray(float px, float py) const {
-  const double u = (2.0 * px / width_ - 1.0) * half_width_;
-  const double v = (1.0 - 2.0 * py / height_) * half_height_;
+  const double u = (2.0 * px / width_d_ - 1.0) * half_width_;
+  const double v = (1.0 - 2.0 * py / height_d_) * half_height_;
+  const bool perspective = description_.projection == Projection::perspective;
   V3d origin, direction;
-  if (description_.projection == Projection::perspective) {
+  double advance = 0.0;
+  if (perspective) {
     origin = origin_;
     direction = (forward_ + u * right_ + v * up_).normalized();
+    if (advances_) advance = entry_distance(to_bounds_min_, to_bounds_max_, direction);
   } else {
     origin = origin_ + u * right_ + v * up_;
     direction = forward_;
+    if (advances_) advance = entry_distance(bounds_.min - origin, bounds_.max - origin, direction);
   }
-  const double advance = bounds_.isEmpty() ? 0.0 : entry_distance(bounds_, origin, direction);
   Ray ray;
   ray.origin = V3f(origin + advance * direction);
   ray.direction = V3f(direction);
@@ -157,13 +170,12 @@ Ray Camera::generate_ray(float px, float py) const {
   // image plane at distance 1, seen from the eye along this ray, whose distance to that plane
   // point is 1 / cos(angle off the axis) = 1 / (direction . forward). A ray moved forward
   // starts with the width the cone has there.
-  const double pixel = 2.0 * half_height_ / height_;
-  if (description_.projection == Projection::perspective) {
-    const double spread = pixel * direction.dot(forward_);
+  if (perspective) {
+    const double spread = pixel_width_ * direction.dot(forward_);
     ray.cone_spread = static_cast<float>(spread);
     ray.cone_width = static_cast<float>(spread * advance);
   } else {
-    ray.cone_width = static_cast<float>(pixel);
+    ray.cone_width = static_cast<float>(pixel_width_);
   }
   return ray;
 }

@@ -81,6 +81,11 @@ class Camera {
   V3d right_, up_, forward_;         // orthonormal, in world space
   double half_width_, half_height_;  // of the image plane at distance 1, or of the view
   Imath::Box3d bounds_;              // scene_bounds with a margin; empty = no advance
+  // Per-ray constants, computed once as generate_ray would compute them.
+  double width_d_ = 1.0, height_d_ = 1.0;
+  double pixel_width_ = 0.0;                     // a pixel's width on the image plane at 1
+  V3d to_bounds_min_{0.0}, to_bounds_max_{0.0};  // bounds_ corners less origin_
+  bool advances_ = false;                        // some ray may start moved forward
 };
 
 }  // namespace prism
