@@ -100,6 +100,28 @@ TEST(EmbreeScene, SmoothNormalsTurnWithTheNodeAndStayOnTheGeometricSide) {
   EXPECT_NEAR(hit.shading_normal.z, 1.0f, 1e-6f);
 }
 
+// A flat-shaded mesh with stored normals, baked at an angle: the hit's shading normal is the
+// face normal itself, which the normals' interpolation gives to rounding, and no terminator
+// offset lifts the point (the patch the normals describe is the triangle's plane).
+TEST(EmbreeScene, AFlatShadedMeshsHitsTakeTheFaceNormal) {
+  Mesh mesh = triangle_mesh();
+  mesh.primitives[0].normals = {V3f(0, 0, 1), V3f(0, 0, 1), V3f(0, 0, 1)};
+  M44d turn;
+  turn.setAxisAngle(V3d(1, 0, 0), 0.2);
+  SceneDescription scene;
+  scene.meshes = {mesh};
+  scene.instances = {{0, turn, "a"}};
+  const EmbreeScene geometry(scene, {});
+  SurfaceHit hit;
+  ASSERT_TRUE(geometry.intersect(ray_down_z(0.1f, 0.2f), &hit));
+  EXPECT_EQ(hit.shading_normal, hit.geometric_normal);
+  EXPECT_EQ(hit.terminator_offset, V3f(0.0f));
+  V3d turned;
+  turn.multDirMatrix(V3d(0, 0, 1), turned);
+  EXPECT_NEAR(hit.shading_normal.dot(V3f(turned)), 1.0f, 1e-6f);
+  EXPECT_LT(hit.shading_normal.z, 0.99f);  // really turned
+}
+
 // Every sphere mode: a ray from the centre leaves through the far side (t = r), flagged as
 // arriving at the back face, with the outward normal; a ray from outside arrives at the front.
 TEST(EmbreeScene, SphereHitsReportBackFacesFromInside) {

@@ -115,6 +115,42 @@ TEST(MeshPreparation, BakesPositionsNormalsAndTangentsIntoTheWorld) {
   EXPECT_EQ(mesh.face_normals[0], V3f(0, 0, 1));
 }
 
+// A flat-shaded mesh that stores its normals (each triangle's three are its face normal)
+// shades with the face normal; normals that bend, or point against the winding, are used.
+TEST(MeshPreparation, NormalsThatAreTheFaceNormalsToRoundingShadeItFlat) {
+  Primitive p = square();
+  p.normals.assign(4, V3f(0, 0, 1));
+  EXPECT_TRUE(prepare_mesh(p).shading_is_flat);
+  p.normals[2] = V3f(0, 3e-7f, 1);  // tilted by less than 2^-21: float rounding
+  EXPECT_TRUE(prepare_mesh(p).shading_is_flat);
+  p.normals[2] = V3f(0, 1e-5f, 1);  // a real bend, however small
+  EXPECT_FALSE(prepare_mesh(p).shading_is_flat);
+  p.normals.assign(4, V3f(0, 0, -1));  // against the winding: the hit flips them
+  EXPECT_FALSE(prepare_mesh(p).shading_is_flat);
+  p.normals.clear();  // no normals: shaded by the geometric normal anyway
+  EXPECT_FALSE(prepare_mesh(p).shading_is_flat);
+
+  // Baked by a rotation about X (0.3 rad) and a non-uniform scale: positions and normals
+  // move differently, in double, and still agree to rounding.
+  p.normals.assign(4, V3f(0, 0, 1));
+  M44d to_world;
+  to_world.setAxisAngle(V3d(1, 0, 0), 0.3);
+  M44d scale;
+  scale.setScale(V3d(3, 1, 2));
+  const PreparedMesh baked = prepare_mesh(p, scale * to_world);
+  EXPECT_TRUE(baked.shading_is_flat);
+  EXPECT_NE(baked.face_normals[0], V3f(0, 0, 1));  // really turned
+}
+
+// A curved mesh's normals are not its faces': it stays smooth.
+TEST(MeshPreparation, ACurvedMeshIsNotFlat) {
+  Primitive p = square();
+  p.normals = {V3f(-0.1f, -0.1f, 1), V3f(0.1f, -0.1f, 1), V3f(0.1f, 0.1f, 1), V3f(-0.1f, 0.1f, 1)};
+  const PreparedMesh mesh = prepare_mesh(p);
+  EXPECT_FALSE(mesh.shading_is_flat);
+  EXPECT_EQ(mesh.normals.size(), 4u);
+}
+
 // A mirroring transform keeps the authored front face in front: the winding flips with the
 // vertices, and so does the bitangent's sign.
 TEST(MeshPreparation, MirroringFlipsTheWindingAndTheBitangentSign) {

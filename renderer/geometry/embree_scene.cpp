@@ -454,7 +454,7 @@ void EmbreeScene::fill_triangle_hit(const PreparedMesh& mesh, const RTCRayHit& r
   hit->geometric_normal = mesh.face_normals[rh.hit.primID];
   hit->terminator_offset = V3f(0.0f);
   hit->surface_error = 0.0f;
-  if (!mesh.normals.empty()) {
+  if (!mesh.normals.empty() && !mesh.shading_is_flat) {
     hit->shading_normal =
         w * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
     // Hanika's shadow-terminator fix (Ray Tracing Gems II ch. 4): a flat triangle under

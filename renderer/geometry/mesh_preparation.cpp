@@ -162,6 +162,23 @@ void compute_face_normals(PreparedMesh* mesh) {
   });
 }
 
+// Whether every kept triangle's vertex normals equal its face normal to rounding.
+bool normals_are_face_normals(const PreparedMesh& mesh) {
+  if (mesh.normals.empty()) return false;
+  constexpr float kRounding = 0x1.0p-21f;
+  const size_t triangles = mesh.triangle_count();
+  return count_if_index(triangles, [&](size_t t) {
+           const V3f& face = mesh.face_normals[t];
+           for (size_t k = 0; k < 3; ++k) {
+             const V3f d = mesh.normals[mesh.indices[3 * t + k]] - face;
+             if (!(std::fabs(d.x) <= kRounding && std::fabs(d.y) <= kRounding &&
+                   std::fabs(d.z) <= kRounding))
+               return true;
+           }
+           return false;
+         }) == 0;
+}
+
 // The attributes with one value per vertex (the loader checks that; a primitive made in code
 // may not), once `positions` is final.
 void take_attributes(const Primitive& p, const std::vector<Imath::V4f>& tangents,
@@ -182,6 +199,7 @@ PreparedMesh finish(const Primitive& p, const M44d* to_world, PreparedMesh mesh)
   clean_mesh(&mesh.positions, &mesh.normals, &mesh.indices, &mesh.statistics);
   if (mesh.indices.empty()) return mesh;
   compute_face_normals(&mesh);
+  mesh.shading_is_flat = normals_are_face_normals(mesh);
   mesh.positions.push_back(V3f(0.0f));  // Embree's read-ahead padding
   if (to_world)
     take_attributes(p, bake_tangents(p.tangents, *to_world), &mesh);

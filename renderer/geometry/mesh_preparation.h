@@ -42,6 +42,12 @@ struct PreparedMesh {
   // Formed once here rather than at every hit, where it cost more than the rest of the hit.
   // Out of the counter-clockwise front face, as Embree's Ng.
   std::vector<Imath::V3f> face_normals;
+  // Every triangle's vertex normals are its face normal to rounding (within 2^-21 in each
+  // component: the same direction rounded to float twice), as in a flat-shaded mesh that
+  // stores its normals. Its hits take the face normal: interpolating would give it back to
+  // rounding, and the terminator offset, which lifts a point onto the patch the normals
+  // describe, is zero to rounding on a patch that is the triangle's own plane.
+  bool shading_is_flat = false;
   int material = -1;
   MeshPreparationStatistics statistics;
 
