@@ -20,23 +20,6 @@ std::string number(double v) {
   return buffer;
 }
 
-// Where the ray o + t d (d unit) enters the box whose corners are o + to_min and
-// o + to_max, or 0 when o is inside it or the ray misses it.
-double entry_distance(const V3d& to_min, const V3d& to_max, const V3d& d) {
-  double t_in = 0.0, t_out = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 3; ++i) {
-    if (d[i] == 0.0) {
-      if (to_min[i] > 0.0 || to_max[i] < 0.0) return 0.0;
-      continue;
-    }
-    double t0 = to_min[i] / d[i], t1 = to_max[i] / d[i];
-    if (t0 > t1) std::swap(t0, t1);
-    t_in = std::max(t_in, t0);
-    t_out = std::min(t_out, t1);
-  }
-  return t_in <= t_out ? t_in : 0.0;
-}
-
 }  // namespace
 
 V3d camera_position(const CameraDescription& description) {
@@ -139,12 +122,29 @@ Camera::Camera(const CameraDescription& description, int image_width, int image_
   width_d_ = width_;
   height_d_ = height_;
   pixel_width_ = 2.0 * half_height_ / height_;
-  to_bounds_min_ = bounds_.min - origin_;
-  to_bounds_max_ = bounds_.max - origin_;
-  // A perspective camera's rays all start at origin_: inside the bounds (closed), every
-  // one's entry distance is 0.
-  advances_ = !bounds_.isEmpty() &&
-              !(description.projection == Projection::perspective && bounds_.intersects(origin_));
+  advance_ = bounds_.isEmpty() ? 0.0 : distance_to_bounds(description.projection);
+}
+
+// One advance for every ray, the least of their distances to the bounds, so that none starts
+// past where it enters them (the geometry in front of it) and none needs a slab test of its
+// own: a perspective camera's distance to the box (0 inside it), and for an orthographic one,
+// whose rays leave the view plane along forward_, how far in front of that plane the box's
+// nearest corner lies (0 when the box reaches behind it).
+double Camera::distance_to_bounds(Projection projection) const {
+  if (projection == Projection::perspective) {
+    V3d gap(0.0);
+    for (int i = 0; i < 3; ++i)
+      gap[i] = std::max({0.0, bounds_.min[i] - origin_[i], origin_[i] - bounds_.max[i]});
+    return gap.length();
+  }
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int corner = 0; corner < 8; ++corner) {
+    const V3d p((corner & 1) ? bounds_.max.x : bounds_.min.x,
+                (corner & 2) ? bounds_.max.y : bounds_.min.y,
+                (corner & 4) ? bounds_.max.z : bounds_.min.z);
+    nearest = std::min(nearest, (p - origin_).dot(forward_));
+  }
+  return std::max(0.0, nearest);
 }
 
 Ray Camera::generate_ray(float px, float py) const {
@@ -152,18 +152,15 @@ Ray Camera::generate_ray(float px, float py) const {
   const double v = (1.0 - 2.0 * py / height_d_) * half_height_;
   const bool perspective = description_.projection == Projection::perspective;
   V3d origin, direction;
-  double advance = 0.0;
   if (perspective) {
     origin = origin_;
     direction = (forward_ + u * right_ + v * up_).normalized();
-    if (advances_) advance = entry_distance(to_bounds_min_, to_bounds_max_, direction);
   } else {
     origin = origin_ + u * right_ + v * up_;
     direction = forward_;
-    if (advances_) advance = entry_distance(bounds_.min - origin, bounds_.max - origin, direction);
   }
   Ray ray;
-  ray.origin = V3f(origin + advance * direction);
+  ray.origin = V3f(origin + advance_ * direction);
   ray.direction = V3f(direction);
   ray.from_camera = true;
   // The pixel's cone, for texture filtering (docs/materials.md): a pixel's width on the
@@ -173,7 +170,7 @@ Ray Camera::generate_ray(float px, float py) const {
   if (perspective) {
     const double spread = pixel_width_ * direction.dot(forward_);
     ray.cone_spread = static_cast<float>(spread);
-    ray.cone_width = static_cast<float>(spread * advance);
+    ray.cone_width = static_cast<float>(spread * advance_);
   } else {
     ray.cone_width = static_cast<float>(pixel_width_);
   }

@@ -56,10 +56,10 @@ class Camera {
   // wrong image, so RenderScene::camera, which passes the geometry's origin, is the usual
   // way to make one.
   //
-  // `scene_bounds` (in the shifted frame; EmbreeScene::bounds()): a ray from outside them
-  // starts, moved forward in double, just before it enters them, so that its float origin
-  // is near the geometry rather than near a camera that may stand 1 km away; what lies
-  // before the bounds is empty space. Empty: rays start at the camera.
+  // `scene_bounds` (in the shifted frame; EmbreeScene::bounds()): from outside them, every
+  // ray starts moved forward in double by the camera's distance to them, so that its float
+  // origin is near the geometry rather than near a camera that may stand 1 km away; what
+  // lies nearer than the bounds is empty space. Empty: rays start at the camera.
   Camera(const CameraDescription& description, int image_width, int image_height,
          const V3d& world_origin, const Imath::Box3f& scene_bounds = Imath::Box3f());
 
@@ -81,11 +81,12 @@ class Camera {
   V3d right_, up_, forward_;         // orthonormal, in world space
   double half_width_, half_height_;  // of the image plane at distance 1, or of the view
   Imath::Box3d bounds_;              // scene_bounds with a margin; empty = no advance
+  double distance_to_bounds(Projection projection) const;
+
   // Per-ray constants, computed once as generate_ray would compute them.
   double width_d_ = 1.0, height_d_ = 1.0;
-  double pixel_width_ = 0.0;                     // a pixel's width on the image plane at 1
-  V3d to_bounds_min_{0.0}, to_bounds_max_{0.0};  // bounds_ corners less origin_
-  bool advances_ = false;                        // some ray may start moved forward
+  double pixel_width_ = 0.0;  // a pixel's width on the image plane at 1
+  double advance_ = 0.0;      // how far every ray starts in front of the camera
 };
 
 }  // namespace prism
