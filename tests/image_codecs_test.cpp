@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "renderer/image/exr_file.h"
@@ -34,10 +35,18 @@ std::vector<unsigned char> read_file(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// A folder of this process's own (ctest runs each test in a process), removed when it ends
+// so that runs leave nothing behind in the temporary directory.
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("prism_codecs_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
+  static const struct Folder {
+    fs::path path = fs::temp_directory_path() / ("prism_codecs_" + std::to_string(::getpid()));
+    Folder() { fs::create_directories(path); }
+    ~Folder() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  } folder;
+  return folder.path / name;
 }
 
 // OpenImageIO's decoding of a file as floats, with straight alpha: glTF's texels are not
