@@ -195,9 +195,19 @@ struct PathTracer {
                                kDimensionsPerBounce * static_cast<uint32_t>(depth));
       const PixelSample2D u_light = sampler.get2d();
       const PixelSample2D u_bsdf = sampler.get2d();
-      const float u_choice = sampler.get1d();
-      // The lobe's and the roulette's dimensions are drawn only where they are used.
-      const uint32_t lobe_dimension = sampler.dimension(), roulette_dimension = lobe_dimension + 1;
+      // The light's choice and the BSDF's lobe are one pair of dimensions, drawn together
+      // (one seed hash) when there is a lobe to choose; the lobe's and the roulette's
+      // dimensions are drawn only where they are used.
+      const uint32_t choice_dimension = sampler.dimension();
+      const uint32_t roulette_dimension = choice_dimension + 2;
+      float u_choice = 0.0f, u_lobe = 0.0f;
+      if (bsdf.single_lobe()) {
+        u_choice = sampler.get1d_at(choice_dimension);
+      } else {
+        const PixelSample2D choice_and_lobe = sampler.get2d();
+        u_choice = choice_and_lobe.x;
+        u_lobe = choice_and_lobe.y;
+      }
 
       // Lights are sampled from the shadow rays' origin, off the surface on the lit side: a
       // point on an emissive sphere itself is then unambiguously inside or outside it.
@@ -208,7 +218,6 @@ struct PathTracer {
                                inside ? &absorption : nullptr, counters));
 
       BsdfSample bs;
-      const float u_lobe = bsdf.single_lobe() ? 0.0f : sampler.get1d_at(lobe_dimension);
       if (!bsdf.sample(wo, u_lobe, Imath::V2f(u_bsdf.x, u_bsdf.y), hit.back_face, &bs)) break;
       beta = hadamard(beta, bs.f) * (std::fabs(dot(n, bs.wi)) / bs.pdf);
       bsdf_pdf = bs.specular() || bs.lobe == kGlossyTransmission ? -1.0f : bs.pdf;
