@@ -247,14 +247,68 @@ TEST(Environment, SampleLandsInTheTexelItCameFrom) {
   // uniform environment.
   const Environment uniform(V3f(0.5f, 0.25f, 1.0f));
   for (int i = 0; i < 20000; ++i) {
-    const V3f d = normalize(V3f(2.0f * u01(rng) - 1.0f, 2.0f * u01(rng) - 1.0f,
-                                2.0f * u01(rng) - 1.0f));
+    const V3f d =
+        normalize(V3f(2.0f * u01(rng) - 1.0f, 2.0f * u01(rng) - 1.0f, 2.0f * u01(rng) - 1.0f));
     for (const Environment* e : {&sun, &uniform}) {
       float pdf = -1.0f;
       ASSERT_EQ(e->radiance_and_pdf(d, &pdf), e->radiance(d));
       ASSERT_EQ(pdf, e->pdf(d));
     }
   }
+}
+
+// sample() takes the texel it drew without looking wi up again when wi is far enough from
+// the texel's edges for rounding not to matter. On a map of a real size, rotated, with every
+// texel's radiance different (red its column + 1, green its row + 1), the texel it reports
+// must be the one the lookup finds: at random, and where it is hardest, on the two sides of
+// a texel edge as close as float samples can get to it (found by bisection on u, in steps of
+// one float), for column edges and row edges, the poles' rows included.
+TEST(Environment, SampleReportsTheTexelTheLookupFindsOnALargeMap) {
+  Image map = numbered_map(512, 256);
+  for (size_t i = 0; i < map.rgba.size(); ++i)
+    if (i % 4 < 2) map.rgba[i] += 1.0f;  // no black column or row: every texel is drawn
+  const Environment env(map, 0.7f, 1.0f);
+  const auto expect_agreement = [&](const Imath::V2f& u) {
+    EnvironmentSample s;
+    if (!env.sample(u, &s)) return false;
+    float pdf = -1.0f;
+    const V3f radiance = env.radiance_and_pdf(s.wi, &pdf);
+    EXPECT_EQ(s.radiance, radiance) << u << " " << s.wi;
+    EXPECT_EQ(s.pdf, pdf) << u << " " << s.wi;
+    return s.radiance == radiance && s.pdf == pdf;
+  };
+  const auto texel_at = [&](const Imath::V2f& u) {
+    EnvironmentSample s;
+    env.sample(u, &s);
+    return env.texel_of(s.wi);
+  };
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  for (int i = 0; i < 100000; ++i) ASSERT_TRUE(expect_agreement(Imath::V2f(u01(rng), u01(rng))));
+
+  int edges = 0, polar_edges = 0;
+  for (int i = 0; i < 600; ++i) {
+    const int axis = i % 2;  // 0: across a column edge (u.x), 1: across a row edge (u.y)
+    Imath::V2f lo(u01(rng), u01(rng));
+    Imath::V2f hi = lo;
+    hi[axis] = std::min(lo[axis] + 0.004f, 0.99999f);
+    if (i % 10 == 1) {  // across the first or last rows, a few 1e-5 of the marginal each
+      lo.y = u01(rng) < 0.5f ? 1e-6f : 0.99990f;
+      hi.y = lo.y + 9e-5f;
+    }
+    if (texel_at(lo)[axis] == texel_at(hi)[axis]) continue;
+    while (std::nextafter(lo[axis], 1.0f) < hi[axis]) {
+      Imath::V2f mid = lo;
+      mid[axis] = 0.5f * (lo[axis] + hi[axis]);
+      (texel_at(mid)[axis] == texel_at(lo)[axis] ? lo : hi) = mid;
+    }
+    ASSERT_TRUE(expect_agreement(lo));
+    ASSERT_TRUE(expect_agreement(hi));
+    ++edges;
+    polar_edges += texel_at(lo)[1] < 4 || texel_at(lo)[1] > 251;
+  }
+  EXPECT_GT(edges, 400);
+  EXPECT_GT(polar_edges, 10);
 }
 
 TEST(Environment, BlackMapsAndUniformEnvironments) {

@@ -199,9 +199,23 @@ bool Environment::sample(const Imath::V2f& u, EnvironmentSample* out) const {
                       static_cast<float>(y),
                       static_cast<float>(-map_->sin_rotation * x + map_->cos_rotation * z));
   out->wi = wi.normalized();
-  // Read back through the lookup radiance() and pdf() use, so that the three agree exactly
-  // even where rounding puts wi on the far side of a texel's edge.
-  out->radiance = radiance_and_pdf(out->wi, &out->pdf);
+  // radiance() and pdf() look wi up again, and the three must agree exactly even where
+  // rounding puts wi on the far side of a texel's edge. Rounding wi to float and normalising
+  // it moves it by less than 5e-7; the lookup's atan2 and acos turn that into at most
+  // 5e-7 / sin(theta) radians. Away from the edges by four times that, in texels, the lookup
+  // finds the sampled texel, so its two inverse trigonometric calls are skipped; nearer, or
+  // near a pole, wi is looked up as radiance() would.
+  const double margin_s = 4 * 5e-7 / (2 * kPi * sin_theta) * map_->width;
+  const double margin_t = 4 * 5e-7 / (kPi * sin_theta) * map_->height;
+  const double in_s = s * map_->width - static_cast<double>(column);
+  const double in_t = t * map_->height - static_cast<double>(row);
+  if (sin_theta > 0.0 && in_s > margin_s && in_s < 1.0 - margin_s && in_t > margin_t &&
+      in_t < 1.0 - margin_t) {
+    out->pdf = map_pdf(out->wi, static_cast<int>(column), static_cast<int>(row));
+    out->radiance = map_->texels[row * static_cast<size_t>(map_->width) + column];
+  } else {
+    out->radiance = radiance_and_pdf(out->wi, &out->pdf);
+  }
   return out->pdf > 0.0f;
 }
 
