@@ -121,7 +121,9 @@ class Bsdf {
       : normal_(shading_normal),
         lobes_(lobes),
         layered_(lobes.layers.present()),
-        lambertian_(is_lambertian(lobes, layered_)) {}
+        lambertian_(is_lambertian(lobes, layered_)) {
+    fix_choice();
+  }
 
   const BsdfLobes& lobes() const { return lobes_; }
 
@@ -146,6 +148,7 @@ class Bsdf {
                                   (lobes_.ior != 1.0f || lobes_.thin_walled);
     b.lobes_.back_face = back_face;
     b.lobes_.opaque_layer = lobes_.model == BrdfModel::gltf && lobes_.transmission > 0.0f;
+    b.fix_choice();
     return b;
   }
   const Imath::V3f& shading_normal() const { return normal_; }
@@ -530,10 +533,24 @@ class Bsdf {
   // How sample() splits its choice: the delta lobes' share first, then diffuse and glossy in
   // proportion to estimates of their albedos (any positive split is unbiased).
   LobeChoice choice(const Imath::V3f& wo, const Imath::V3f& n) const {
+    if (choice_is_fixed_) return fixed_choice_;
     SpecularLobe lobes[2];
     float specular = 0.0f;
     const int count = base_specular_lobes<true, true>(wo, n, false, lobes);
     for (int i = 0; i < count; ++i) specular += luminance(lobes[i].weight());
+    return choice_given(specular);
+  }
+  // Only the delta lobes' weights (their Fresnel at wo) make choice() depend on wo: without
+  // them it is formed once, when the lobes are settled, by the same arithmetic.
+  bool has_delta_lobes() const {
+    return lobes_.mirror || (lobes_.transmission > 0.0f && !lobes_.rough_transmission);
+  }
+  void fix_choice() {
+    choice_is_fixed_ = !has_delta_lobes();
+    if (choice_is_fixed_) fixed_choice_ = choice_given(0.0f);
+  }
+  // The choice once the delta lobes' luminance `specular` is known.
+  LobeChoice choice_given(float specular) const {
     const float diffuse = luminance(lobes_.diffuse_albedo);
     if (lobes_.rough_transmission) {
       // The layer's GGX lobe over the opaque part, and the rough dielectric by its weight.
@@ -589,8 +606,10 @@ class Bsdf {
 
   Imath::V3f normal_{0.0f, 0.0f, 1.0f};
   BsdfLobes lobes_;
-  bool layered_ = false;     // lobes_.layers.present(): a coat or a sheen to evaluate
-  bool lambertian_ = false;  // is_lambertian(): eval, pdf, sample and albedo take a shortcut
+  bool layered_ = false;          // lobes_.layers.present(): a coat or a sheen to evaluate
+  bool lambertian_ = false;       // is_lambertian(): eval, pdf, sample and albedo take a shortcut
+  bool choice_is_fixed_ = false;  // no delta lobe: choice() is fixed_choice_ for every wo
+  LobeChoice fixed_choice_;
 };
 
 }  // namespace prism
