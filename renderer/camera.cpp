@@ -119,8 +119,6 @@ Camera::Camera(const CameraDescription& description, int image_width, int image_
     const double margin = 0x1.0p-10 * size + 0x1.0p-20 * largest;
     if (std::isfinite(margin)) bounds_ = Imath::Box3d(lo - V3d(margin), hi + V3d(margin));
   }
-  width_d_ = width_;
-  height_d_ = height_;
   pixel_width_ = 2.0 * half_height_ / height_;
   advance_ = bounds_.isEmpty() ? 0.0 : distance_to_bounds(description.projection);
 }
@@ -148,8 +146,8 @@ double Camera::distance_to_bounds(Projection projection) const {
 }
 
 Ray Camera::generate_ray(float px, float py) const {
-  const double u = (2.0 * px / width_d_ - 1.0) * half_width_;
-  const double v = (1.0 - 2.0 * py / height_d_) * half_height_;
+  const double u = (2.0 * px / width_ - 1.0) * half_width_;
+  const double v = (1.0 - 2.0 * py / height_) * half_height_;
   const bool perspective = description_.projection == Projection::perspective;
   V3d origin, direction;
   if (perspective) {

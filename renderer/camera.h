@@ -74,6 +74,8 @@ class Camera {
   M44d world_to_ndc() const;
 
  private:
+  double distance_to_bounds(Projection projection) const;
+
   CameraDescription description_;
   int width_, height_;
   V3d world_origin_;
@@ -81,10 +83,7 @@ class Camera {
   V3d right_, up_, forward_;         // orthonormal, in world space
   double half_width_, half_height_;  // of the image plane at distance 1, or of the view
   Imath::Box3d bounds_;              // scene_bounds with a margin; empty = no advance
-  double distance_to_bounds(Projection projection) const;
-
-  // Per-ray constants, computed once as generate_ray would compute them.
-  double width_d_ = 1.0, height_d_ = 1.0;
+  // Constants of every ray, computed once.
   double pixel_width_ = 0.0;  // a pixel's width on the image plane at 1
   double advance_ = 0.0;      // how far every ray starts in front of the camera
 };
