@@ -39,7 +39,14 @@ RenderScene::RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescri
   for (Light light : scene.lights) {
     // Into the geometry's shifted frame, in double (embree_scene.h).
     light.position -= geometry_.world_origin();
-    lights_.emplace_back(light, colour);
+    LightSource source(light, colour);
+    // A light that delivers nothing would still cost every hit its culling test and its
+    // sample() call, and a share of the light choices' bookkeeping: it is left out. (The
+    // scene still has it: whether a default light is added was decided on the description.)
+    if (source.dark())
+      ++dark_lights_;
+    else
+      lights_.push_back(source);
   }
   // A sphere around the geometry sizes directional lights' power for the light sampler.
   const Imath::Box3f bounds = geometry_.bounds();

@@ -42,7 +42,9 @@ class RenderScene {
     return Camera(description, image_width, image_height, geometry_.world_origin(),
                   geometry_.bounds());
   }
+  // The scene's lights that deliver anything; dark_lights() counts those left out.
   const std::vector<LightSource>& lights() const { return lights_; }
+  size_t dark_lights() const { return dark_lights_; }
   // Chooses a light in proportion to its power, for integrators that sample one light per
   // hit instead of visiting them all (renderer/shading/light_sampler.h).
   const LightSampler& light_sampler() const { return light_sampler_; }
@@ -73,6 +75,7 @@ class RenderScene {
   Material default_material_;
   EmbreeScene geometry_;
   std::vector<LightSource> lights_;
+  size_t dark_lights_ = 0;
   LightSampler light_sampler_;
   Environment environment_;
   std::vector<AreaLight> area_lights_;  // point into materials_

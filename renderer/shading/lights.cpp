@@ -35,7 +35,7 @@ V3f LightSource::power(float scene_radius) const {
 
 bool LightSource::sample(const V3f& point, const Imath::V2f& /*u*/, LightSample* out) const {
   // A light that delivers nothing costs no shadow ray.
-  if (intensity_.x == 0.0f && intensity_.y == 0.0f && intensity_.z == 0.0f) return false;
+  if (dark()) return false;
   if (type_ == LightType::directional) {
     out->wi = -direction_;
     out->distance = std::numeric_limits<float>::infinity();

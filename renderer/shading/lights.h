@@ -58,6 +58,8 @@ class LightSource {
   const Imath::V3f& intensity() const { return intensity_; }  // W/sr, or W/m^2 directional
   float range() const { return range_; }                      // m; 0 = unlimited
   float cos_outer() const { return cos_outer_; }              // spot: the cone's edge
+  // Delivers nothing anywhere (a zero colour or intensity): sample() always says no.
+  bool dark() const { return intensity_.x == 0.0f && intensity_.y == 0.0f && intensity_.z == 0.0f; }
 
  private:
   LightType type_ = LightType::point;
