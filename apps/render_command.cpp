@@ -166,13 +166,14 @@ int run(const RenderOptions& o) {
   if (o.verbose && root) {
     const GeometryStatistics& stats = built.geometry().statistics();
     const RenderSettings film = session.film(job);
-    std::fprintf(stderr,
-                 "prism: %s: %zu triangles (%zu meshes baked, %zu instances), %zu spheres (%s), "
-                 "%zu lights (%zu dark, left out), camera '%s', %dx%d, %d spp, loaded and built in %.3f s\n",
-                 o.scene.scene_path.c_str(), stats.triangles, stats.meshes_baked,
-                 stats.mesh_instances, stats.spheres, to_string(job.spheres).c_str(),
-                 built.lights().size(), built.dark_lights(), session.camera(job).name.c_str(), film.width, film.height,
-                 film.spp, session.load_seconds() + build_seconds);
+    std::fprintf(
+        stderr,
+        "prism: %s: %zu triangles (%zu meshes baked, %zu instances), %zu spheres (%s), "
+        "%zu lights (%zu dark, left out), camera '%s', %dx%d, %d spp, loaded and built in %.3f s\n",
+        o.scene.scene_path.c_str(), stats.triangles, stats.meshes_baked, stats.mesh_instances,
+        stats.spheres, to_string(job.spheres).c_str(), built.lights().size(), built.dark_lights(),
+        session.camera(job).name.c_str(), film.width, film.height, film.spp,
+        session.load_seconds() + build_seconds);
     std::fprintf(stderr, "prism: features: %s\n", to_string(built.features()).c_str());
   }
 

@@ -162,7 +162,7 @@ struct RenderOutput {
   std::string camera_name;
   GeometryStatistics geometry;
   SceneFeatures features;
-  size_t lights = 0;  // that deliver anything (RenderScene::lights)
+  size_t lights = 0;           // that deliver anything (RenderScene::lights)
   double build_seconds = 0.0;  // building the BVH for this job; 0 when an earlier job's was reused
   std::vector<PassError> pass_errors;  // with a reference
   // Samples per pixel the render continued from (JobCallbacks::resume), 0 when it started

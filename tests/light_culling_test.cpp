@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 
 #include "integrators/registry.h"
 #include "renderer/image/colour.h"
+#include "renderer/render_scene.h"
 #include "renderer/shading/light_culling.h"
 #include "tests/test_scenes.h"
 
@@ -113,6 +115,44 @@ TEST(ShadowIntegrator, EveryLightBeyondTheFirstChunkIsShadedAndCounted) {
   EXPECT_EQ(r.result.rays[RayKind::shadow], pairs);
   EXPECT_GT(pairs, 41u * 41u);  // on average a floor point sees more than one light
   EXPECT_LT(worst, 1e-4) << "largest relative difference from the sum of the lights' terms";
+}
+
+// A light that delivers nothing is left out of the render scene's list (it would cost every
+// hit a culling test for no light), and the image and the shadow rays are those of the scene
+// without it, bit for bit.
+TEST(ShadowIntegrator, DarkLightsAreLeftOutAndChangeNothing) {
+  SceneDescription lit;
+  lit.materials.push_back(lambert_like(0.8f));
+  lit.meshes.push_back(quad_mesh(10.0f, 0.0f, 0));
+  lit.instances.push_back(MeshInstance{0, M44d(), "floor"});
+  lit.spheres.push_back(Sphere{V3d(0.3, 0.6, 0.2), 0.4, 0, "ball"});
+  Light bright;
+  bright.intensity = 3.0f;
+  bright.position = V3d(-0.5, 2.0, 0.4);
+  lit.lights.push_back(bright);
+  lit.cameras.push_back(ortho_camera_looking_down_y(5.0, 2.0));
+  SceneDescription with_dark = lit;
+  Light zero_intensity = bright;
+  zero_intensity.intensity = 0.0f;
+  Light black_colour = bright;
+  black_colour.colour = C3f(0.0f, 0.0f, 0.0f);
+  with_dark.lights = {zero_intensity, bright, black_colour};
+
+  const ColourPipeline colour(WorkingSpace::linear_rec709);
+  const RenderScene built(with_dark, GeometryOptions{}, colour);
+  ASSERT_EQ(built.lights().size(), 1u);
+  EXPECT_EQ(built.dark_lights(), 2u);
+  EXPECT_EQ(built.lights()[0].intensity().x, LightSource(bright, colour).intensity().x);
+
+  testing::TestSettings settings;
+  settings.width = settings.height = 24;
+  const auto a = render_scene(lit, "shadow", settings);
+  const auto b = render_scene(with_dark, "shadow", settings);
+  EXPECT_GT(a.result.rays[RayKind::shadow], 0u);
+  EXPECT_EQ(b.result.rays[RayKind::shadow], a.result.rays[RayKind::shadow]);
+  ASSERT_EQ(a.image.rgba.size(), b.image.rgba.size());
+  EXPECT_EQ(0, std::memcmp(a.image.rgba.data(), b.image.rgba.data(),
+                           a.image.rgba.size() * sizeof(float)));
 }
 
 }  // namespace
