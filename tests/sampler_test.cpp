@@ -397,11 +397,13 @@ PixelSample2D shifted_sobol_pixel_sample(uint64_t pixel_index, uint32_t sample_i
           fraction_to_float(sobol_dim1(sample_index) + static_cast<uint32_t>(shift))};
 }
 
-// The three shapes that decide a pixel's error in Prism's images, over the unit pixel: a
-// straight edge (a silhouette or a shadow boundary), a small disc (a highlight a few
-// samples hit or miss) and a smooth bump (a soft highlight), each with its exact integral.
+// The shapes that decide a pixel's error in Prism's images, over the unit pixel: a straight
+// edge (a silhouette or a shadow boundary), a disc (a highlight a few samples hit or miss),
+// a glint (a highlight far smaller than the pixel: the rare hits that dominate the relMSE of
+// spheres.gltf beside its point lights' reflections) and a smooth bump (a soft highlight),
+// each with its exact integral.
 struct PixelIntegrand {
-  enum class Shape { edge, disc, bump } shape;
+  enum class Shape { edge, disc, glint, bump } shape;
   double a, b, c;  // edge: unit normal (a, b), offset c; disc, bump: centre (a, b), size c
   double exact;
 
@@ -410,6 +412,7 @@ struct PixelIntegrand {
       case Shape::edge:
         return a * x + b * y > c ? 1.0 : 0.0;
       case Shape::disc:
+      case Shape::glint:
         return (x - a) * (x - a) + (y - b) * (y - b) < c * c ? 1.0 : 0.0;
       case Shape::bump:
         return std::exp(-((x - a) * (x - a) + (y - b) * (y - b)) / (2 * c * c));
@@ -446,7 +449,8 @@ double unit_interval_gaussian_integral(double m, double sigma) {
 }
 
 // `count` integrands of one shape, placed at random (a fixed stream, so the test is
-// deterministic): edges at any angle through any point, discs of radius 0.05-0.3 and bumps of
+// deterministic): edges at any angle through any point, discs of radius 0.05-0.3, glints of
+// radius 0.005-0.05 and bumps of
 // deviation 0.05-0.3 centred anywhere in the pixel.
 std::vector<PixelIntegrand> random_integrands(PixelIntegrand::Shape shape, int count) {
   uint64_t stream = static_cast<uint64_t>(shape) * 1000003 + 1;
@@ -461,8 +465,9 @@ std::vector<PixelIntegrand> random_integrands(PixelIntegrand::Shape shape, int c
         integrands.push_back({shape, a, b, c, half_plane_area_in_unit_square(a, b, c)});
         break;
       }
-      case PixelIntegrand::Shape::disc: {
-        const double r = 0.05 + 0.25 * w;
+      case PixelIntegrand::Shape::disc:
+      case PixelIntegrand::Shape::glint: {
+        const double r = shape == PixelIntegrand::Shape::disc ? 0.05 + 0.25 * w : 0.005 + 0.045 * w;
         integrands.push_back({shape, u, v, r, exact_pixel_coverage(0, 0, u, v, r)});
         break;
       }
@@ -518,17 +523,19 @@ MeanWithError mean_with_error(const std::vector<double>& values) {
 // of resolution.
 TEST(Sampler, HashBasedScrambleErrorEqualsPerBitOwenScramble) {
   constexpr int kPixels = 8192, kIntegrands = 16;
-  constexpr const char* kShapeNames[] = {"edge", "disc", "bump"};
-  for (const auto shape :
-       {PixelIntegrand::Shape::edge, PixelIntegrand::Shape::disc, PixelIntegrand::Shape::bump}) {
+  constexpr const char* kShapeNames[] = {"edge", "disc", "glint", "bump"};
+  for (const auto shape : {PixelIntegrand::Shape::edge, PixelIntegrand::Shape::disc,
+                           PixelIntegrand::Shape::glint, PixelIntegrand::Shape::bump}) {
     const std::vector<PixelIntegrand> integrands = random_integrands(shape, kIntegrands);
+    const bool glint = shape == PixelIntegrand::Shape::glint;
+    const int pixels = glint ? 4 * kPixels : kPixels;
     for (int spp : {1, 4, 16, 64}) {
       const MeanWithError hashed = mean_with_error(
-          squared_errors_per_pixel(integrands, kPixels, spp, sobol_owen_pixel_sample));
+          squared_errors_per_pixel(integrands, pixels, spp, sobol_owen_pixel_sample));
       const MeanWithError per_bit = mean_with_error(
-          squared_errors_per_pixel(integrands, kPixels, spp, per_bit_owen_pixel_sample));
+          squared_errors_per_pixel(integrands, pixels, spp, per_bit_owen_pixel_sample));
       const MeanWithError shifted = mean_with_error(
-          squared_errors_per_pixel(integrands, kPixels, spp, shifted_sobol_pixel_sample));
+          squared_errors_per_pixel(integrands, pixels, spp, shifted_sobol_pixel_sample));
       // The two sets of seeds are independent, so the ratio's relative variance is the sum
       // of the two means' (first-order error propagation).
       const double ratio = hashed.mean / per_bit.mean;
@@ -540,7 +547,10 @@ TEST(Sampler, HashBasedScrambleErrorEqualsPerBitOwenScramble) {
           "shifted %.4e (x%.3f)\n",
           kShapeNames[static_cast<int>(shape)], spp, per_bit.mean, hashed.mean, ratio, ratio_error,
           shifted.mean, shifted_ratio);
-      EXPECT_LT(ratio_error, 0.015) << "the measurement resolves 1.5 %";
+      // A glint's squared error is hit or miss, heavy-tailed: four times the seeds measure
+      // its mean to about 3 % at 1 spp, 1.5 % at 4.
+      const double resolution = glint ? 0.035 : 0.015;
+      EXPECT_LT(ratio_error, resolution) << kShapeNames[static_cast<int>(shape)] << " spp " << spp;
       EXPECT_LT(std::fabs(ratio - 1.0), 4.0 * ratio_error)
           << kShapeNames[static_cast<int>(shape)] << " spp " << spp;
       if (shape == PixelIntegrand::Shape::bump && spp >= 16) {
