@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""What a user waits for outside the render itself (docs/benchmarks.md, "Start-up"):
+
+    python3 bench/startup.py [--rounds 15] [--res 320x240] [--spp 4]
+
+Each round runs, in turn (interleaved, so a slow spell of a shared machine falls on every
+command alike): a C++ hello world built here with g++ -O2, `prism --help`, and `prism
+render` of an untextured asset (2CylinderEngine) and of a textured one (BoxTextured, a PNG).
+A render's start-up is its whole-process wall time minus the `total` prism itself reports
+(load, build, render and write, timed from main): dynamic linking, static constructors and
+exit. The table gives medians over the rounds; "over hello" subtracts the hello world's
+median wall time, the cost of any process at all. The goal of the start-up work: `--help`
+and both renders within 20 ms of hello, and a small textured render's wall time within 1.3x
+of the total prism reports.
+"""
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+from benchlib import find_prism
+
+ASSETS = "/usr/share/assimp/models/glTF2"
+SCENES = {
+    "untextured": ASSETS + "/2CylinderEngine-glTF-Binary/2CylinderEngine.glb",
+    "textured": ASSETS + "/BoxTextured-glTF/BoxTextured.gltf",
+}
+TOTAL = re.compile(r"total ([0-9.]+) s\)")
+
+
+def timed(cmd):
+    start = time.perf_counter()
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    wall = time.perf_counter() - start
+    if proc.returncode != 0:
+        sys.exit("failed (%d): %s\n%s" % (proc.returncode, " ".join(cmd), proc.stdout[-2000:]))
+    return wall, proc.stdout
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--rounds", type=int, default=15)
+    parser.add_argument("--res", default="320x240")
+    parser.add_argument("--spp", type=int, default=4)
+    args = parser.parse_args()
+    prism = find_prism("startup.py")
+    for path in SCENES.values():
+        if not os.path.exists(path):
+            sys.exit("startup.py: %s is missing (Debian's assimp-testmodels)" % path)
+
+    with tempfile.TemporaryDirectory() as work:
+        hello = os.path.join(work, "hello")
+        with open(hello + ".cpp", "w") as f:
+            f.write('#include <cstdio>\nint main() { std::puts("hello"); }\n')
+        subprocess.run(["g++", "-O2", hello + ".cpp", "-o", hello], check=True)
+        commands = {"hello world": [hello], "prism --help": [prism, "--help"]}
+        for kind, scene in SCENES.items():
+            commands["prism render " + kind] = [prism, "render", scene, "--res", args.res, "--spp",
+                                                str(args.spp), "-o", os.path.join(work, kind + ".exr")]
+        walls = {name: [] for name in commands}
+        outside = {name: [] for name in commands if name.startswith("prism render")}
+        totals = {name: [] for name in outside}
+        for name, cmd in commands.items():  # one warm-up each: the page cache, not counted
+            timed(cmd)
+        for _ in range(args.rounds):
+            for name, cmd in commands.items():
+                wall, output = timed(cmd)
+                walls[name].append(wall)
+                if name in outside:
+                    match = TOTAL.search(output)
+                    if not match:
+                        sys.exit("no `total` in the output of %s:\n%s" % (" ".join(cmd), output))
+                    total = float(match.group(1))
+                    totals[name].append(total)
+                    outside[name].append(wall - total)
+
+    hello_wall = statistics.median(walls["hello world"])
+    print("%d rounds, medians; %s; res %s, %d spp" % (args.rounds, prism, args.res, args.spp))
+    print("| command | wall ms | prism's total ms | outside it ms | over hello ms | wall / total |")
+    print("| --- | ---: | ---: | ---: | ---: | ---: |")
+    for name in commands:
+        wall = statistics.median(walls[name]) * 1e3
+        if name in outside:
+            total = statistics.median(totals[name]) * 1e3
+            out = statistics.median(outside[name]) * 1e3
+            ratio = statistics.median(w / t for w, t in zip(walls[name], totals[name]))
+            print("| %s | %.1f | %.1f | %.1f | %.1f | %.2f |" %
+                  (name, wall, total, out, out - hello_wall * 1e3, ratio))
+        else:
+            over = "" if name == "hello world" else "%.1f" % (wall - hello_wall * 1e3)
+            print("| %s | %.1f | | | %s | |" % (name, wall, over))
+
+
+if __name__ == "__main__":
+    main()
