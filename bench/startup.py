@@ -20,9 +20,8 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 
-from benchlib import find_prism
+from benchlib import find_prism, run_logged
 
 ASSETS = "/usr/share/assimp/models/glTF2"
 SCENES = {
@@ -30,15 +29,6 @@ SCENES = {
     "textured": ASSETS + "/BoxTextured-glTF/BoxTextured.gltf",
 }
 TOTAL = re.compile(r"total ([0-9.]+) s\)")
-
-
-def timed(cmd):
-    start = time.perf_counter()
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    wall = time.perf_counter() - start
-    if proc.returncode != 0:
-        sys.exit("failed (%d): %s\n%s" % (proc.returncode, " ".join(cmd), proc.stdout[-2000:]))
-    return wall, proc.stdout
 
 
 def main():
@@ -64,11 +54,12 @@ def main():
         walls = {name: [] for name in commands}
         outside = {name: [] for name in commands if name.startswith("prism render")}
         totals = {name: [] for name in outside}
+        log = os.path.join(work, "last.log")
         for name, cmd in commands.items():  # one warm-up each: the page cache, not counted
-            timed(cmd)
+            run_logged(cmd, log)
         for _ in range(args.rounds):
             for name, cmd in commands.items():
-                wall, output = timed(cmd)
+                output, wall = run_logged(cmd, log)
                 walls[name].append(wall)
                 if name in outside:
                     match = TOTAL.search(output)

@@ -449,9 +449,8 @@ double unit_interval_gaussian_integral(double m, double sigma) {
 }
 
 // `count` integrands of one shape, placed at random (a fixed stream, so the test is
-// deterministic): edges at any angle through any point, discs of radius 0.05-0.3, glints of
-// radius 0.005-0.05 and bumps of
-// deviation 0.05-0.3 centred anywhere in the pixel.
+// deterministic): edges at any angle through any point; discs of radius 0.05-0.3, glints of
+// radius 0.005-0.05 and bumps of deviation 0.05-0.3, centred anywhere in the pixel.
 std::vector<PixelIntegrand> random_integrands(PixelIntegrand::Shape shape, int count) {
   uint64_t stream = static_cast<uint64_t>(shape) * 1000003 + 1;
   const auto uniform = [&] { return static_cast<double>(mix64(stream++) >> 11) * 0x1.0p-53; };
@@ -516,8 +515,8 @@ MeanWithError mean_with_error(const std::vector<double>& values) {
 
 // The hash-based scramble is not Owen's uniform random tree (its flips are a few multiplies
 // of the seed, not independent coins), so equal error has to be measured, not assumed: on
-// 8192 pixel seeds and 16 integrands of each shape, the per-pixel MSE of the two scrambles'
-// estimates agree within four standard errors of their ratio at 1 to 64 spp, the ratio
+// 8192 pixel seeds (32768 for glints) and 16 integrands of each shape, the per-pixel MSE of the two
+// scrambles' estimates agree within four standard errors of their ratio at 1 to 64 spp, the ratio
 // measured to about 1 %. The same measurement tells a weaker randomisation apart (a random
 // shift of the same points is several times worse on the bump), so agreement is not for want
 // of resolution.
