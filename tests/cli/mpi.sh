@@ -6,11 +6,13 @@
 # prism was built without MPI.
 # Usage: mpi.sh PRISM SOURCE_DIR
 source "$(dirname "$0")/lib/common.bash" "$@"
-if ! ldd "$PRISM" | grep -q 'libmpi'; then
+# MPI's calls are in a module beside the build's executables (distributed/mpi_module.h).
+MODULE="$(dirname "$PRISM")/../lib/prism/libprism_mpi.so"
+if [[ ! -f $MODULE ]]; then
   echo "SKIP: $PRISM was built without MPI (find_package(MPI) found none)"
   exit 77
 fi
-command -v mpirun >/dev/null || { echo "FAIL: prism links MPI but mpirun is not on PATH"; exit 1; }
+command -v mpirun >/dev/null || { echo "FAIL: prism has an MPI module but mpirun is not on PATH"; exit 1; }
 # Root in CI containers, and more ranks than cores on a 2-core machine.
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 MPIRUN=(mpirun --oversubscribe)
@@ -71,6 +73,23 @@ execs=$(grep -c 'execve(' "$TMP/strace")
 grep -q orted "$TMP/strace" && fail "a plain render started orted: $(grep orted "$TMP/strace")"
 [[ $execs -eq 1 ]] || fail "a plain render ran $execs programs: $(grep 'execve(' "$TMP/strace")"
 echo "ok: a plain render ran $execs program (no orted)"
+# Nor does it load libmpi: only the module links it, and only a launched process opens it.
+ldd "$PRISM" | grep -q libmpi && fail "prism links libmpi: $(ldd "$PRISM" | grep libmpi)"
+strace -f -e trace=openat -o "$TMP/opened" "$PRISM" render "$SCENE" -o "$TMP/plain.exr" \
+  --res 64x48 --quiet || fail "plain render under strace"
+grep -q 'libmpi\|libprism_mpi' "$TMP/opened" &&
+  fail "a plain render opened MPI: $(grep 'libmpi\|libprism_mpi' "$TMP/opened" | head -2)"
+echo "ok: a plain render opened no MPI library"
+
+# Launched by mpirun without the module: one line naming it from each rank, nothing written.
+mkdir -p "$TMP/bare/bin"
+cp "$PRISM" "$TMP/bare/bin/prism"
+"${MPIRUN[@]}" -n 2 "$TMP/bare/bin/prism" render "$SCENE" -o "$TMP/bare.exr" "${ARGS[@]}" \
+  >"$TMP/out" 2>"$TMP/err" && fail "2 ranks without the MPI module rendered"
+grep -q "^prism: error: an MPI launcher started 2 ranks, but prism needs MPI, whose module .*libprism_mpi.so cannot be loaded" "$TMP/err" ||
+  fail "2 ranks without the MPI module: $(cat "$TMP/err")"
+[[ -e $TMP/bare.exr ]] && fail "2 ranks without the MPI module wrote a file"
+echo "ok: without the module: $(grep -m1 '^prism: error:' "$TMP/err")"
 
 # A batch over 2 ranks: the ranks claim jobs as they become free, each output is the single
 # process's bit for bit, and rank 0's report has every job, run by both ranks between them.

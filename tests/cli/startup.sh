@@ -12,7 +12,7 @@ oiio=$(ldd "$PRISM" | grep -c OpenImageIO)
 echo "prism links $libs shared libraries, $oiio of them OpenImageIO's"
 [[ $oiio -eq 0 ]] || fail "prism links OpenImageIO: $(ldd "$PRISM" | grep OpenImageIO)"
 # The OpenImageIO build pulled in about 260; what is left is Embree, TBB, OCIO, OpenEXR,
-# libpng, libjpeg-turbo, Draco, MPI and their own dependencies.
+# libpng, libjpeg-turbo, Draco and their own dependencies (MPI is a module too: mpi.sh).
 [[ $libs -lt 120 ]] || fail "prism links $libs shared libraries"
 
 # A textured render (PNG texture) opens no OpenImageIO library.
