@@ -48,7 +48,6 @@ class MpiModule {
 
 // The module's exported symbols: the entry returns the module's one MpiModule, the build
 // symbol its "<version> <commit>" (renderer/loadable_module.h refuses another build's).
-using MpiModuleEntry = const MpiModule* (*)();
 inline constexpr const char* kMpiModuleEntry = "prism_mpi_module";
 inline constexpr const char* kMpiModuleBuild = "prism_mpi_module_build";
 

@@ -34,9 +34,9 @@ const MpiModule* load_mpi(std::string& why_not) {
 #ifdef PRISM_HAVE_MPI
   // Global: OpenMPI's components, opened by libmpi itself, look libmpi's symbols up in the
   // global namespace.
-  const LoadedModule loaded =
-      load_module("libprism_mpi.so", "MPI", kMpiModuleBuild, kMpiModuleEntry, SymbolScope::global);
-  if (loaded.entry) return reinterpret_cast<MpiModuleEntry>(loaded.entry)();
+  const ModuleOnce<MpiModule>& loaded = load_module_once<MpiModule>(
+      "libprism_mpi.so", "MPI", kMpiModuleBuild, kMpiModuleEntry, SymbolScope::global);
+  if (loaded.module) return loaded.module;
   why_not = "prism " + loaded.error;
 #else
   why_not = "this prism was built without MPI";

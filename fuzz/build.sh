@@ -40,9 +40,17 @@ throttle() {
 }
 rm -f "$OUT/gltf_loader_fuzz.o"  # a main() from the layout before main/ would link twice
 throttle; compile "$SRC/fuzz/tinygltf_impl.cpp" "$OUT/tinygltf_impl.o" -w &
-for src in "$SRC"/scene_io/*.cpp; do
+# The Draco module is linked in rather than loaded (draco_module_linked.cpp); its build
+# symbol needs a version header, which CMake would generate.
+rm -f "$OUT/draco_module_loader.o"
+mkdir -p "$OUT/generated/renderer"
+[[ -f $OUT/generated/renderer/version.h ]] ||
+  sed 's/@PROJECT_VERSION@/fuzz/; s/@PRISM_GIT_COMMIT@/fuzz/' "$SRC/renderer/version.h.in" \
+    >"$OUT/generated/renderer/version.h"
+for src in "$SRC"/scene_io/*.cpp "$SRC"/scene_io/draco/*.cpp "$SRC/fuzz/draco_module_linked.cpp"; do
   f=$(basename "$src" .cpp)
-  throttle; compile "$src" "$OUT/$f.o" -Wall -Wextra -Werror &
+  [[ $f == draco_module_loader ]] && continue
+  throttle; compile "$src" "$OUT/$f.o" -Wall -Wextra -Werror -I"$OUT/generated" &
 done
 mkdir -p "$OUT/main"
 for target in gltf_loader_fuzz gltf_image_fuzz; do

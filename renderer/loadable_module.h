@@ -1,4 +1,4 @@
-// Prism's own shared-library modules (OpenImageIO's, MPI's), opened the first time a
+// Prism's own shared-library modules (OpenImageIO's, Draco's, MPI's), opened the first time a
 // command needs them so that every other command starts without their dependencies.
 //
 // A module lives in ../lib/prism beside the executable (the build tree and `cmake --install`)
@@ -29,5 +29,27 @@ struct LoadedModule {
 // open for the life of the process: the module's objects live as long.
 LoadedModule load_module(const char* file_name, const char* what, const char* build_symbol,
                          const char* entry_symbol, SymbolScope scope);
+
+template <typename Module>
+struct ModuleOnce {
+  const Module* module = nullptr;  // what the entry symbol returned, or null with `error` set
+  std::string error;
+};
+
+// load_module the first time any thread asks for `Module`, then the same answer every time:
+// a module that failed to load is not retried (the reason would not change). The entry
+// symbol is a function returning the module's one `const Module*`.
+template <typename Module>
+const ModuleOnce<Module>& load_module_once(const char* file_name, const char* what,
+                                           const char* build_symbol, const char* entry_symbol,
+                                           SymbolScope scope) {
+  static const ModuleOnce<Module> once = [&] {
+    const LoadedModule loaded = load_module(file_name, what, build_symbol, entry_symbol, scope);
+    using Entry = const Module* (*)();
+    if (!loaded.entry) return ModuleOnce<Module>{nullptr, loaded.error};
+    return ModuleOnce<Module>{reinterpret_cast<Entry>(loaded.entry)(), {}};
+  }();
+  return once;
+}
 
 }  // namespace prism

@@ -3,11 +3,10 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <vector>
 
-#include <draco/compression/decode.h>
-#include <draco/mesh/mesh.h>
-
+#include "scene_io/draco_module.h"
 #include "scene_io/gltf_accessors.h"
 #include "scene_io/gltf_budget.h"
 #include "scene_io/gltf_error.h"
@@ -18,40 +17,23 @@ namespace {
 
 constexpr const char* kExtension = "KHR_draco_mesh_compression";
 
-// Converts every point's value of `attribute` to T, `components` per point, into `out`.
-template <typename T>
-bool convert(const draco::PointAttribute& attribute, uint32_t points, int components,
-             unsigned char* out) {
-  std::vector<T> value(static_cast<std::size_t>(components));
-  for (uint32_t i = 0; i < points; ++i) {
-    const draco::AttributeValueIndex mapped = attribute.mapped_index(draco::PointIndex(i));
-    if (mapped.value() >= attribute.size()) return false;
-    if (!attribute.ConvertValue<T>(mapped, static_cast<int8_t>(components), value.data())) {
-      return false;
-    }
-    std::memcpy(out + std::size_t(i) * components * sizeof(T), value.data(),
-                components * sizeof(T));
-  }
-  return true;
-}
-
-bool convert_to(int component_type, const draco::PointAttribute& attribute, uint32_t points,
-                int components, unsigned char* out) {
+// The Draco type of a glTF accessor's component type, or nothing for one Draco cannot make.
+std::optional<DracoComponent> draco_component(int component_type) {
   switch (component_type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-      return convert<int8_t>(attribute, points, components, out);
+      return DracoComponent::int8;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return convert<uint8_t>(attribute, points, components, out);
+      return DracoComponent::uint8;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-      return convert<int16_t>(attribute, points, components, out);
+      return DracoComponent::int16;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return convert<uint16_t>(attribute, points, components, out);
+      return DracoComponent::uint16;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-      return convert<uint32_t>(attribute, points, components, out);
+      return DracoComponent::uint32;
     case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return convert<float>(attribute, points, components, out);
+      return DracoComponent::float32;
     default:
-      return false;
+      return std::nullopt;
   }
 }
 
@@ -73,9 +55,9 @@ class PrimitiveDecoder {
     if (!ext.Has("attributes") || !ext.Get("attributes").IsObject()) {
       fail(file_, ext_element + ".attributes", "expected an object");
     }
-    const std::unique_ptr<draco::Mesh> mesh =
+    const std::unique_ptr<DracoMesh> mesh =
         decode(ext.Get("bufferView").GetNumberAsInt(), ext_element);
-    if (mesh->num_faces() == 0) fail(file_, ext_element, "the Draco mesh has no triangles");
+    if (mesh->faces() == 0) fail(file_, ext_element, "the Draco mesh has no triangles");
 
     // Everything below only appends to model_: references into it are re-taken after.
     tinygltf::Primitive& primitive = this->primitive();
@@ -85,12 +67,12 @@ class PrimitiveDecoder {
     }
     const int indices = this->primitive().indices;
     if (indices >= 0) {
-      const std::size_t expected = 3 * std::size_t(mesh->num_faces());
+      const std::size_t expected = 3 * std::size_t(mesh->faces());
       const std::size_t declared = accessor(indices, element_ + ".indices").count;
       if (declared != expected) {
         fail(file_, element_ + ".indices",
              "accessor count " + std::to_string(declared) + " but the Draco mesh has " +
-                 std::to_string(mesh->num_faces()) + " triangles");
+                 std::to_string(mesh->faces()) + " triangles");
       }
     }
     const int new_indices = decoded_indices(*mesh);
@@ -125,7 +107,7 @@ class PrimitiveDecoder {
     return model_.accessors[static_cast<std::size_t>(index)];
   }
 
-  std::unique_ptr<draco::Mesh> decode(int view_index, const std::string& ext_element) const {
+  std::unique_ptr<DracoMesh> decode(int view_index, const std::string& ext_element) const {
     if (view_index < 0 || static_cast<std::size_t>(view_index) >= model_.bufferViews.size()) {
       fail(file_, ext_element + ".bufferView",
            "bufferView " + std::to_string(view_index) + " out of range (" +
@@ -142,15 +124,12 @@ class PrimitiveDecoder {
     if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset) {
       fail(file_, view_element, "byteOffset + byteLength exceeds its buffer");
     }
-    draco::DecoderBuffer stream;
-    stream.Init(reinterpret_cast<const char*>(buffer.data() + view.byteOffset), view.byteLength);
-    draco::Decoder decoder;
-    auto decoded = decoder.DecodeMeshFromBuffer(&stream);
-    if (!decoded.ok()) {
-      fail(file_, ext_element, "Draco cannot decode it: " + decoded.status().error_msg_string());
-    }
-    std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
-    if (!mesh) fail(file_, ext_element, "Draco cannot decode it: not a mesh");
+    std::string error;
+    const DracoModule* draco = draco_module(error);
+    if (!draco) fail(file_, ext_element, error);
+    std::unique_ptr<DracoMesh> mesh =
+        draco->decode(buffer.data() + view.byteOffset, view.byteLength, error);
+    if (!mesh) fail(file_, ext_element, "Draco cannot decode it: " + error);
     return mesh;
   }
 
@@ -162,25 +141,24 @@ class PrimitiveDecoder {
     return static_cast<int>(model_.accessors.size() - 1);
   }
 
-  int decoded_indices(const draco::Mesh& mesh) {
-    charge(std::size_t(mesh.num_faces()) * 3, sizeof(uint32_t), element_ + ".indices");
-    std::vector<unsigned char> bytes(std::size_t(mesh.num_faces()) * 3 * sizeof(uint32_t));
-    for (uint32_t f = 0; f < mesh.num_faces(); ++f) {
-      const draco::Mesh::Face& face = mesh.face(draco::FaceIndex(f));
-      const uint32_t v[3] = {face[0].value(), face[1].value(), face[2].value()};
-      std::memcpy(bytes.data() + std::size_t(f) * sizeof v, v, sizeof v);
-    }
+  int decoded_indices(const DracoMesh& mesh) {
+    const std::size_t count = std::size_t(mesh.faces()) * 3;
+    charge(count, sizeof(uint32_t), element_ + ".indices");
+    std::vector<uint32_t> indices(count);
+    mesh.indices(indices.data());
+    std::vector<unsigned char> bytes(count * sizeof(uint32_t));
+    std::memcpy(bytes.data(), indices.data(), bytes.size());
     tinygltf::Accessor a;
     a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     a.type = TINYGLTF_TYPE_SCALAR;
-    a.count = std::size_t(mesh.num_faces()) * 3;
+    a.count = count;
     return add_accessor(a, std::move(bytes));
   }
 
-  int decoded_attribute(const draco::Mesh& mesh, uint32_t id, int accessor_index,
+  int decoded_attribute(const DracoMesh& mesh, uint32_t id, int accessor_index,
                         const std::string& referrer, const std::string& attr_element) {
-    const draco::PointAttribute* attribute = mesh.GetAttributeByUniqueId(id);
-    if (!attribute) {
+    const int draco_components = mesh.attribute_components(id);
+    if (draco_components < 0) {
       fail(file_, attr_element, "the Draco mesh has no attribute with id " + std::to_string(id));
     }
     const tinygltf::Accessor original = accessor(accessor_index, referrer);
@@ -189,20 +167,20 @@ class PrimitiveDecoder {
     if (element_size == 0) fail(file_, element, "componentType or type is invalid");
     const int components =
         static_cast<int>(element_size / tinygltf::GetComponentSizeInBytes(original.componentType));
-    if (attribute->num_components() != components) {
+    if (draco_components != components) {
       fail(file_, attr_element,
-           "the Draco attribute has " + std::to_string(attribute->num_components()) +
-               " components but " + element + " has " + std::to_string(components));
+           "the Draco attribute has " + std::to_string(draco_components) + " components but " +
+               element + " has " + std::to_string(components));
     }
-    if (original.count != mesh.num_points()) {
+    if (original.count != mesh.points()) {
       fail(file_, element,
            "count " + std::to_string(original.count) + " but the Draco mesh has " +
-               std::to_string(mesh.num_points()) + " points");
+               std::to_string(mesh.points()) + " points");
     }
-    charge(mesh.num_points(), element_size, attr_element);
-    std::vector<unsigned char> bytes(std::size_t(mesh.num_points()) * element_size);
-    if (!convert_to(original.componentType, *attribute, mesh.num_points(), components,
-                    bytes.data())) {
+    const std::optional<DracoComponent> type = draco_component(original.componentType);
+    charge(mesh.points(), element_size, attr_element);
+    std::vector<unsigned char> bytes(std::size_t(mesh.points()) * element_size);
+    if (!type || !mesh.attribute_values(id, *type, components, bytes.data())) {
       fail(file_, attr_element, "Draco cannot convert the attribute to the accessor's type");
     }
     return add_accessor(original, std::move(bytes));

@@ -57,11 +57,8 @@ class OiioModule {
 // when it cannot be loaded, naming the file that needed it.
 const OiioModule& oiio_module(const std::string& for_path);
 
-// What the module exports, in C so that dlsym finds it by name.
-extern "C" {
-using OiioModuleEntry = const OiioModule* (*)();
-using OiioModuleBuild = const char* (*)();
-}
+// What the module exports, in C so that dlsym finds it by name: a function returning the
+// module's one OiioModule, and one returning its build (renderer/loadable_module.h).
 inline constexpr const char* kOiioModuleEntry = "prism_oiio_module";
 inline constexpr const char* kOiioModuleBuild = "prism_oiio_module_build";
 
