@@ -280,6 +280,7 @@ int run(const RenderOptions& o) {
                                             static_cast<double>(split.tiles_received)
                                       : 0.0,
                  split.wait_seconds, split.gather_seconds);
+    std::fprintf(stderr, "prism: MPI transport: %s\n", split.transport.c_str());
   }
   if (result.time_limit_reached && !o.quiet)
     std::fprintf(stderr,

@@ -74,6 +74,7 @@ FrameSplitStats FrameSplit::gather(Image* image, RenderResult* result) {
   FrameSplitStats stats;
   stats.rank = world_.rank();
   stats.ranks = world_.size();
+  stats.transport = world_.transport();
   stats.tiles_here = claimed_.size();
   const auto wait_start = Clock::now();
   // Every rank has stopped claiming once all are here, so the window can go.

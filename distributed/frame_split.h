@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "distributed/world.h"
@@ -31,6 +32,8 @@ struct FrameSplitStats {
   double wait_seconds = 0.0;
   // Rank 0: moving the other ranks' tiles to it and placing them into its image.
   double gather_seconds = 0.0;
+  // What carries the ranks' messages (World::transport).
+  std::string transport;
 };
 
 class FrameSplit {

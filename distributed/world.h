@@ -29,6 +29,13 @@ class World {
   int size() const { return size_; }
   bool root() const { return rank_ == 0; }
   bool uses_mpi() const { return uses_mpi_; }
+  // How the ranks talk, for --verbose: "shared memory (...)" when Prism chose OpenMPI's
+  // shared-memory transport because every rank is on one node, else "MPI's default".
+  const char* transport() const {
+    return chose_shared_memory_ ? "shared memory (OpenMPI pml ob1, btl self,vader: every rank "
+                                  "on one node)"
+                                : "MPI's default or the launcher's choice";
+  }
   // Collective: returns once every rank has called it.
   void barrier() const;
 
@@ -57,6 +64,7 @@ class World {
   World();
   int rank_ = 0, size_ = 1;
   bool uses_mpi_ = false;
+  bool chose_shared_memory_ = false;
 };
 
 // A counter shared by every rank: next() returns 0, 1, 2, ... across all of them together,

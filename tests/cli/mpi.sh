@@ -46,11 +46,23 @@ for run in "2 2" "2 1" "3 1"; do
   split=$(grep "MPI ranks rendered" "$TMP/mpi.err")
   [[ -n $split ]] || fail "$label: --verbose does not describe the split: $(cat "$TMP/mpi.err")"
   echo "ok: $label: $split"
+  # One node, no transport named: shared memory, not OpenMPI's probe of UCX's transports.
+  grep -q "^prism: MPI transport: shared memory" "$TMP/mpi.err" ||
+    fail "$label: not shared memory on one node: $(grep 'MPI transport' "$TMP/mpi.err")"
   # The tiles the ranks rendered add up to the frame's 300.
   sum=$(sed -n 's/.*ranks rendered \([0-9 +,]*\) tiles.*/\1/p' <<<"$split" | tr -d ',')
   sum=$((${sum:-0}))
   [[ $sum == 300 ]] || fail "$label: ranks rendered $sum tiles, expected 300"
 done
+
+# A transport the user names is kept, and gives the same pixels.
+# (TCP here: this machine's OpenMPI cannot select UCX, which is why probing it first is waste.)
+"${MPIRUN[@]}" --mca btl self,tcp -n 2 "$PRISM" render "$SCENE" -o "$TMP/tcp.exr" "${ARGS[@]}" \
+  --threads 1 --verbose >"$TMP/out" 2>"$TMP/err" || fail "--mca btl self,tcp did not render: $(cat "$TMP/err")"
+grep -q "^prism: MPI transport: MPI's default or the launcher's choice" "$TMP/err" ||
+  fail "--mca btl self,tcp: $(grep 'MPI transport' "$TMP/err")"
+same_pixels "$TMP/one.exr" "$TMP/tcp.exr" "--mca btl self,tcp"
+echo "ok: --mca btl self,tcp kept: $(grep 'MPI transport' "$TMP/err")"
 
 # Adaptive sampling is not split yet: one line from rank 0, exit 2.
 "${MPIRUN[@]}" -n 2 "$PRISM" render "$SCENE" -o "$TMP/adaptive.exr" "${ARGS[@]}" \
