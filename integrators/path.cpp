@@ -94,6 +94,13 @@ struct PathParameters {
   float clamp;
   Strategy strategy;
 
+  // Under MIS the BSDF samples find the environment's light below its mean, so light samples
+  // leave it out (EnvironmentDensity::beside_bsdf); with one strategy alone, each must find
+  // all the light.
+  EnvironmentDensity environment_density() const {
+    return strategy == Strategy::mis ? EnvironmentDensity::beside_bsdf
+                                     : EnvironmentDensity::complete;
+  }
   // The weights of a BSDF sample and a light sample of densities `bsdf` and `light`.
   float bsdf_weight(float bsdf, float light) const {
     switch (strategy) {
@@ -147,7 +154,7 @@ struct PathTracer {
       if (camera_ray) return env.background(direction);
       if (bsdf_pdf < 0.0f) return env.radiance(direction);
       float env_pdf = 0.0f;
-      const V3f radiance = env.radiance_and_pdf(direction, &env_pdf);
+      const V3f radiance = env.radiance_and_pdf(direction, &env_pdf, params.environment_density());
       const float light_pdf = context.scene.emitter_sampler().pmf_environment() * env_pdf;
       return radiance * params.bsdf_weight(bsdf_pdf, light_pdf);
     }
@@ -276,7 +283,7 @@ struct PathTracer {
       case EmitterKind::environment:
         if constexpr (HasEnvironment) {
           EnvironmentSample es;
-          if (!scene.environment().sample(u, &es)) return V3f(0.0f);
+          if (!scene.environment().sample(u, &es, params.environment_density())) return V3f(0.0f);
           arrival.wi = es.wi;
           arrival.radiance = es.radiance;
           arrival.pdf = es.pdf;

@@ -418,6 +418,31 @@ TEST(Bsdf, AlbedoNeverExceedsOneAndIsOneForWhiteLosslessMaterials) {
 // and matches the tabulated albedo() the ambient term uses. (A white dielectric's does not:
 // glTF's fresnel_mix weighs the diffuse base by 1 - F(V.H) per direction, which at grazing
 // views lets it reflect more than 1 -- docs/accuracy.md has the figures.)
+// The mean of sample()'s weight f cos / pdf (red) over `samples` uniform random numbers, its
+// standard error, and how often each lobe was chosen (its direction kept or not).
+struct SampledAlbedo {
+  double mean = 0.0, error = 0.0;
+  int glossy = 0;
+};
+SampledAlbedo sample_albedo(const Bsdf& bsdf, const V3f& wo, int samples, std::mt19937* rng) {
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  SampledAlbedo a;
+  double sum = 0.0, sum2 = 0.0;
+  for (int i = 0; i < samples; ++i) {
+    BsdfSample b;
+    double w = 0.0;
+    // The lobe is set once chosen, also when its direction then falls below the surface.
+    if (bsdf.sample(wo, u01(*rng), Imath::V2f(u01(*rng), u01(*rng)), false, &b))
+      w = b.f.x * std::fabs(b.wi.z) / b.pdf;
+    if (b.lobe == kGlossyReflection) ++a.glossy;
+    sum += w;
+    sum2 += w * w;
+  }
+  a.mean = sum / samples;
+  a.error = std::sqrt(std::max(0.0, sum2 / samples - a.mean * a.mean) / samples);
+  return a;
+}
+
 TEST(Bsdf, PathTracedBsdfFurnace) {
   const V3f n(0, 0, 1);
   const Bsdf mirror = gltf_bsdf(0.9f, 1.0f, 0.0f).path_traced();
@@ -432,24 +457,13 @@ TEST(Bsdf, PathTracedBsdfFurnace) {
   EXPECT_FALSE(gltf_bsdf(0.9f, 1.0f, 0.1f).path_traced().flags() & kSpecularReflection);
 
   std::mt19937 rng(99);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   for (float metallic : {1.0f})
     for (float roughness : {0.0f, 0.1f, 0.3f, 0.6f, 1.0f})
       for (float cos_v : {0.2f, 0.7f, 1.0f}) {
         const Bsdf bsdf = gltf_bsdf(1.0f, metallic, roughness).path_traced();
         const V3f view = spherical(cos_v, 0.4);
-        constexpr int kSamples = 200000;
-        double sum = 0.0, sum2 = 0.0;
-        for (int i = 0; i < kSamples; ++i) {
-          BsdfSample b;
-          double w = 0.0;
-          if (bsdf.sample(view, u01(rng), Imath::V2f(u01(rng), u01(rng)), false, &b))
-            w = b.f.x * std::fabs(b.wi.z) / b.pdf;
-          sum += w;
-          sum2 += w * w;
-        }
-        const double mean = sum / kSamples;
-        const double error = std::sqrt(std::max(0.0, sum2 / kSamples - mean * mean) / kSamples);
+        const SampledAlbedo sampled = sample_albedo(bsdf, view, 200000, &rng);
+        const double mean = sampled.mean, error = sampled.error;
         const double table = bsdf.albedo(view, n, false, AlbedoScope::all_lobes).x;
         SCOPED_TRACE(::testing::Message()
                      << "metallic " << metallic << " roughness " << roughness << " cos " << cos_v);
@@ -459,6 +473,45 @@ TEST(Bsdf, PathTracedBsdfFurnace) {
         // The table is interpolated on a 32 x 32 grid (ggx_albedo.h): 5e-3 is its stated error.
         EXPECT_NEAR(mean, table, 4.0 * error + 5e-3);
       }
+}
+
+// An opaque glTF dielectric splits its samples between the diffuse base and the GGX layer in
+// proportion to their albedos at wo, not by the layer's F90 of 1 (which sent two samples in
+// three to a layer that reflects 4 to 10 % of the light): the share that sample() gives the
+// layer is its tabulated albedo's share, and the mean weight f cos / pdf is still the albedo,
+// integrated independently of the sampling (eval over a uniform hemisphere grid).
+TEST(Bsdf, LobeChoiceFollowsTheLobesAlbedos) {
+  const V3f n(0, 0, 1);
+  std::mt19937 rng(41);
+  for (float roughness : {0.35f, 0.6f, 1.0f})
+    for (float cos_v : {0.15f, 0.6f, 1.0f}) {
+      SCOPED_TRACE(::testing::Message() << "roughness " << roughness << " cos " << cos_v);
+      const Bsdf bsdf = gltf_bsdf(0.5f, 0.0f, roughness).path_traced();
+      const V3f wo = spherical(cos_v, 1.1);
+      const GgxAlbedo table = ggx_albedo(cos_v, roughness * roughness);
+      const double layer = 0.04 * table.e + 0.96 * table.e_schlick;
+      const double expected_share = layer / (layer + 0.5 * (1.0 - layer));
+      constexpr int kSamples = 400000;
+      const SampledAlbedo sampled = sample_albedo(bsdf, wo, kSamples, &rng);
+      const double share = double(sampled.glossy) / kSamples;
+      const double share_error = std::sqrt(expected_share * (1 - expected_share) / kSamples);
+      const double mean = sampled.mean, error = sampled.error;
+      constexpr int kGrid = 400;
+      double integral = 0.0;
+      for (int a = 0; a < kGrid; ++a)
+        for (int c = 0; c < kGrid; ++c) {
+          const double ct = (a + 0.5) / kGrid, phi = 2 * kPiD * (c + 0.5) / kGrid;
+          integral += bsdf.eval(wo, spherical(ct, phi), n).x * ct;
+        }
+      integral *= 2 * kPiD / (double(kGrid) * kGrid);
+      std::printf(
+          "dielectric r %.2f cos %.2f: layer share %.4f (albedos' %.4f), albedo %.5f +- %.5f "
+          "(integral of eval %.5f)\n",
+          roughness, cos_v, share, expected_share, mean, error, integral);
+      EXPECT_NEAR(share, expected_share, 4 * share_error);
+      EXPECT_LT(share, 0.5);  // never the two in three of the F90 rule
+      EXPECT_NEAR(mean, integral, 4 * error + 2e-3 * integral);
+    }
 }
 
 Light punctual(LightType type, float intensity) {

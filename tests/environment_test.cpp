@@ -60,7 +60,7 @@ Image numbered_map(int w, int h) {
 
 // A gradient from a bright top to a dim bottom, with a sun of 4 texels 5000 times brighter:
 // the kind of map importance sampling is for.
-Image sun_map(int w, int h) {
+Image sun_map(int w, int h, float sun = 5000.0f) {
   Image map(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -74,9 +74,9 @@ Image sun_map(int w, int h) {
   for (int y = h / 4; y < h / 4 + 2; ++y)
     for (int x = w / 3; x < w / 3 + 2; ++x) {
       float* p = map.pixel(x, y);
-      p[0] = 5000.0f;
-      p[1] = 4500.0f;
-      p[2] = 4000.0f;
+      p[0] = sun;
+      p[1] = sun * 0.9f;
+      p[2] = sun * 0.8f;
     }
   return map;
 }
@@ -129,16 +129,28 @@ TEST(Environment, RotationTurnsTheMapAboutUp) {
 // Histograms sample() on a grid of half texels in (s, t) and compares it with pdf()
 // integrated over each bin: pdf dw = pdf 2 pi^2 sin(theta) ds dt, constant over a half texel
 // (the bins align with the texels), so a midpoint in (s, t) integrates it exactly.
-TEST(Environment, SamplingMatchesPdfChiSquare) {
+// sample() against pdf() on sun_map(64, 32, sun) with `density`; the share of the samples
+// that fell in the sun's texels goes to `sun_fraction`.
+void expect_sampling_matches_pdf(EnvironmentDensity density, float sun_radiance,
+                                 double* sun_fraction) {
   constexpr int kW = 64, kH = 32, kBinsX = 2 * kW, kBinsY = 2 * kH, kSamples = 2000000;
-  const Environment env(sun_map(kW, kH), 0.0f, 1.0f);
+  const Environment env(sun_map(kW, kH, sun_radiance), 0.0f, 1.0f);
   std::vector<double> observed(kBinsX * kBinsY, 0.0), expected(kBinsX * kBinsY, 0.0);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  int refused = 0;
   for (int i = 0; i < kSamples; ++i) {
     EnvironmentSample s;
     const Imath::V2f u(u01(rng), u01(rng));
-    ASSERT_TRUE(env.sample(u, &s)) << u << " " << s.wi << " " << s.pdf;
+    if (!env.sample(u, &s, density)) {
+      // Only where rounding put wi across an edge into a texel the density leaves out: the
+      // sample then reports that texel's zero density rather than another's.
+      ASSERT_EQ(s.pdf, 0.0f) << u << " " << s.wi;
+      ASSERT_EQ(env.pdf(s.wi, density), 0.0f) << u << " " << s.wi;
+      ++refused;
+      continue;
+    }
+    ASSERT_EQ(s.pdf, env.pdf(s.wi, density));
     const double sx = 0.5 + std::atan2(double(s.wi.z), double(s.wi.x)) / (2 * kPiD);
     const double ty = std::acos(std::clamp(double(s.wi.y), -1.0, 1.0)) / kPiD;
     const int bx = std::clamp(int(sx * kBinsX), 0, kBinsX - 1);
@@ -151,22 +163,101 @@ TEST(Environment, SamplingMatchesPdfChiSquare) {
       // The density per ds dt, pdf 2 pi^2 sin(theta), is constant over the bin: its
       // value at the middle times the bin's area in (s, t) is the bin's probability.
       const double s = (bx + 0.5) / kBinsX, t = (by + 0.5) / kBinsY;
-      const double p = env.pdf(map_direction(s, t)) * 2 * kPiD * kPiD * std::sin(kPiD * t);
+      const double p = env.pdf(map_direction(s, t), density) * 2 * kPiD * kPiD * std::sin(kPiD * t);
       const double probability = p / (double(kBinsX) * kBinsY);
       expected[size_t(by * kBinsX + bx)] = probability * kSamples;
       total += probability;
     }
   EXPECT_NEAR(total, 1.0, 1e-5);
   const double p_value = testing::chi_square_test(observed, expected);
-  std::printf("environment chi-square: p = %.4f over %d bins, %d samples; pdf sums to 1 %+.3g\n",
-              p_value, kBinsX * kBinsY, kSamples, total - 1.0);
-  EXPECT_GT(p_value, 1e-3);
-  // The sun's 4 texels of 2048 hold most of the light, and most of the samples.
   double sun = 0.0;
   for (int by = kH / 2; by < kH / 2 + 4; ++by)
     for (int bx = 2 * (kW / 3); bx < 2 * (kW / 3) + 4; ++bx)
       sun += observed[size_t(by * kBinsX + bx)];
-  EXPECT_GT(sun / kSamples, 0.5);
+  *sun_fraction = sun / kSamples;
+  std::printf(
+      "environment chi-square (%s): p = %.4f over %d bins, %d samples; pdf sums to 1 %+.3g; "
+      "%.4f of the samples in the sun, %d refused\n",
+      density == EnvironmentDensity::complete ? "complete" : "beside a BSDF sample", p_value,
+      kBinsX * kBinsY, kSamples, total - 1.0, *sun_fraction, refused);
+  EXPECT_GT(p_value, 1e-3);
+  EXPECT_LE(refused, 10);
+}
+
+TEST(Environment, SamplingMatchesPdfChiSquare) {
+  double sun = 0.0;
+  expect_sampling_matches_pdf(EnvironmentDensity::complete, 5000.0f, &sun);
+  // The sun's 4 texels of 2048 hold most of the light, and most of the samples.
+  EXPECT_GT(sun, 0.5);
+}
+
+// The density beside a BSDF sample: the same chi-square against its own pdf, nothing drawn
+// where the map is at or below its mean luminance (the BSDF's samples find that light) and
+// the rest in proportion to the excess, so even more of the samples in the sun. A map with no
+// texel above its mean (uniform) and a uniform environment keep the complete density.
+TEST(Environment, DensityBesideABsdfSampleLeavesOutWhatIsBelowTheMean) {
+  // A sun 50 times the sky's brightest: a good part of the light, not nearly all of it.
+  constexpr float kSun = 50.0f;
+  double sun_complete = 0.0, sun_beside = 0.0;
+  expect_sampling_matches_pdf(EnvironmentDensity::complete, kSun, &sun_complete);
+  expect_sampling_matches_pdf(EnvironmentDensity::beside_bsdf, kSun, &sun_beside);
+  EXPECT_GT(sun_beside, sun_complete * 1.5);
+
+  const Image map = sun_map(64, 32, kSun);
+  const Environment env(map, 0.0f, 1.0f);
+  // The mean luminance over the sphere, texel by texel.
+  double mean = 0.0;
+  for (int y = 0; y < map.height; ++y) {
+    const double dw = 2 * kPiD / map.width *
+                      (std::cos(kPiD * y / map.height) - std::cos(kPiD * (y + 1) / map.height));
+    for (int x = 0; x < map.width; ++x) {
+      const V3f c = texel(map, x, y);
+      mean += (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) * dw;
+    }
+  }
+  mean /= 4 * kPiD;
+  int above = 0;
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const V3f d = map_direction((x + 0.5) / map.width, (y + 0.5) / map.height);
+      const V3f c = texel(map, x, y);
+      const double l = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+      const float p = env.pdf(d, EnvironmentDensity::beside_bsdf);
+      if (l > mean * (1 + 1e-6)) {
+        ++above;
+        EXPECT_GT(p, 0.0f) << x << " " << y;
+        // In proportion to the excess over the mean: the same ratio to the complete density
+        // as the excess's to the luminance, up to one constant, checked against the sun's.
+        const V3f sun = texel(map, 64 / 3, 32 / 4);
+        const double sun_l = 0.2126 * sun.x + 0.7152 * sun.y + 0.0722 * sun.z;
+        const V3f sun_d = map_direction((64 / 3 + 0.5) / 64, (32 / 4 + 0.5) / 32);
+        const double ratio = p / env.pdf(d),
+                     sun_ratio = env.pdf(sun_d, EnvironmentDensity::beside_bsdf) / env.pdf(sun_d);
+        EXPECT_NEAR(ratio / sun_ratio, ((l - mean) / l) / ((sun_l - mean) / sun_l), 1e-4);
+      } else if (l < mean * (1 - 1e-6)) {
+        EXPECT_EQ(p, 0.0f) << x << " " << y;
+      }
+    }
+  std::printf("mean luminance %.4f; %d of %d texels above it\n", mean, above,
+              map.width * map.height);
+  EXPECT_GT(above, 4);
+  EXPECT_LT(above, map.width * map.height / 2);
+
+  const Environment flat(constant_map(16, 8, 0.7f), 0.0f, 1.0f);
+  const Environment uniform(V3f(0.7f));
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  for (int i = 0; i < 2000; ++i) {
+    const V3f d =
+        normalize(V3f(2.0f * u01(rng) - 1.0f, 2.0f * u01(rng) - 1.0f, 2.0f * u01(rng) - 1.0f));
+    for (const Environment* e : {&flat, &uniform})
+      ASSERT_EQ(e->pdf(d, EnvironmentDensity::beside_bsdf), e->pdf(d));
+    EnvironmentSample a, b;
+    const Imath::V2f u(u01(rng), u01(rng));
+    ASSERT_TRUE(flat.sample(u, &a));
+    ASSERT_TRUE(flat.sample(u, &b, EnvironmentDensity::beside_bsdf));
+    ASSERT_EQ(a.wi, b.wi);
+  }
 }
 
 // The test above would pass a sampler and pdf that agree with each other but not with the

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -95,6 +96,8 @@ struct TestSettings : RenderSettings {
   float ambient = 0.0f;
   float environment_ambient = 1.0f;
   V3f background{0.0f, 0.0f, 0.0f};
+  // A map instead of the uniform `background`, when set.
+  std::optional<Environment> environment;
   BrdfModel brdf = BrdfModel::gltf;
 };
 
@@ -122,7 +125,8 @@ inline Rendered render_scene(const SceneDescription& scene, const Integrator& in
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
   Rendered r;
   arena.execute([&] {
-    const RenderScene render_scene(scene, options, colour, Environment(settings.background),
+    const RenderScene render_scene(scene, options, colour,
+                                   settings.environment.value_or(Environment(settings.background)),
                                    settings.brdf);
     const Camera cam = render_scene.camera(description, settings.width, settings.height);
     r.result = render(integrator, RenderContext{render_scene, cam, settings}, &r.image);

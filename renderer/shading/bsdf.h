@@ -534,6 +534,7 @@ class Bsdf {
   // proportion to estimates of their albedos (any positive split is unbiased).
   LobeChoice choice(const Imath::V3f& wo, const Imath::V3f& n) const {
     if (choice_is_fixed_) return fixed_choice_;
+    if (choice_by_albedo_) return choice_by_albedo(wo, n);
     SpecularLobe lobes[2];
     float specular = 0.0f;
     const int count = base_specular_lobes<true, true>(wo, n, false, lobes);
@@ -546,8 +547,36 @@ class Bsdf {
     return lobes_.mirror || (lobes_.transmission > 0.0f && !lobes_.rough_transmission);
   }
   void fix_choice() {
-    choice_is_fixed_ = !has_delta_lobes();
+    choice_by_albedo_ = lobes_.model == BrdfModel::gltf && !has_delta_lobes() &&
+                        !lobes_.rough_transmission && !lobes_.opaque_layer && !lambertian_;
+    choice_is_fixed_ = !has_delta_lobes() && !choice_by_albedo_;
     if (choice_is_fixed_) fixed_choice_ = choice_given(0.0f);
+    cached_choice_wo_ = Imath::V3f(0.0f);
+    cached_choice_n_ = Imath::V3f(0.0f);
+  }
+  // The opaque glTF layer over its diffuse base: diffuse and glossy in proportion to their
+  // albedos at wo (the tabulated GGX albedo, as base_albedo()). The layer's F90 of 1 would
+  // otherwise weigh the glossy lobe as if it reflected everything, where a dielectric's
+  // reflects 4 to 10 % away from grazing: two in three samples went to it. Sample, pdf and
+  // eval at one vertex share wo, so the choice is formed once per wo.
+  LobeChoice choice_by_albedo(const Imath::V3f& wo, const Imath::V3f& n) const {
+    if (wo == cached_choice_wo_ && n == cached_choice_n_) return cached_choice_;
+    const float cos_v = fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n)));
+    const GgxAlbedo layer = ggx_albedo(cos_v, lobes_.alpha);
+    const Imath::V3f dielectric_layer =
+        lobes_.dielectric_f0 * layer.e +
+        (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * layer.e_schlick;
+    const float diffuse =
+        luminance(lobes_.diffuse_albedo) * (1.0f - fmin_inline(1.0f, max_of(dielectric_layer)));
+    const float glossy = luminance(lobes_.specular_f0 * layer.e +
+                                   (lobes_.specular_f90 - lobes_.specular_f0) * layer.e_schlick);
+    const float total = diffuse + glossy;
+    LobeChoice c;
+    if (total > 0.0f) c = {0.0f, diffuse / total, glossy / total};
+    cached_choice_wo_ = wo;
+    cached_choice_n_ = n;
+    cached_choice_ = c;
+    return c;
   }
   // The choice once the delta lobes' luminance `specular` is known.
   LobeChoice choice_given(float specular) const {
@@ -609,7 +638,11 @@ class Bsdf {
   bool layered_ = false;          // lobes_.layers.present(): a coat or a sheen to evaluate
   bool lambertian_ = false;       // is_lambertian(): eval, pdf, sample and albedo take a shortcut
   bool choice_is_fixed_ = false;  // no delta lobe: choice() is fixed_choice_ for every wo
+  bool choice_by_albedo_ = false;  // choice() is choice_by_albedo()
   LobeChoice fixed_choice_;
+  // choice_by_albedo()'s last answer and its wo and n (zero, never a direction, when none yet).
+  mutable Imath::V3f cached_choice_wo_{0.0f}, cached_choice_n_{0.0f};
+  mutable LobeChoice cached_choice_;
 };
 
 }  // namespace prism

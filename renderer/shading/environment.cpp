@@ -88,6 +88,14 @@ struct Environment::Map {
   int width = 0, height = 0;
   std::vector<Imath::V3f> texels;  // row-major, row 0 up, times the intensity
   PiecewiseConstant2D distribution;
+  // The luminance above the mean (EnvironmentDensity::beside_bsdf); when no texel is above
+  // it, the complete distribution stands in.
+  PiecewiseConstant2D compensated;
+  bool has_compensated = false;
+  const PiecewiseConstant2D& by(EnvironmentDensity density) const {
+    return density == EnvironmentDensity::beside_bsdf && has_compensated ? compensated
+                                                                         : distribution;
+  }
   double cos_rotation = 1.0, sin_rotation = 0.0;
   Imath::V3f integral{0.0f};               // of the radiance over the sphere
   std::array<Imath::V3f, 9> irradiance{};  // A_l times the radiance's coefficients
@@ -123,7 +131,7 @@ Environment::Environment(const Image& image, float rotation_radians, float inten
   map->sin_rotation = std::sin(static_cast<double>(rotation_radians));
   const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height);
   map->texels.resize(w * h);
-  std::vector<double> weights(w * h);
+  std::vector<double> weights(w * h), solid_angles(h);
   std::array<double, 9> sh[3] = {};
   double integral[3] = {0.0, 0.0, 0.0};
   const double dphi = 2 * kPi / static_cast<double>(w);
@@ -131,6 +139,7 @@ Environment::Environment(const Image& image, float rotation_radians, float inten
     const double t0 = kPi * static_cast<double>(r) / static_cast<double>(h);
     const double t1 = kPi * static_cast<double>(r + 1) / static_cast<double>(h);
     const double solid_angle = dphi * (std::cos(t0) - std::cos(t1));
+    solid_angles[r] = solid_angle;
     for (size_t c = 0; c < w; ++c) {
       const float* p = image.pixel(static_cast<int>(c), static_cast<int>(r));
       for (int k = 0; k < 3; ++k) {
@@ -157,6 +166,21 @@ Environment::Environment(const Image& image, float rotation_radians, float inten
     }
   }
   map->distribution = PiecewiseConstant2D(weights, w, h);
+  // The mean luminance over the sphere (the weights are luminance times solid angle), then
+  // each texel's luminance above it times its solid angle.
+  double mean = 0.0;
+  for (double weight : weights) mean += weight;
+  mean /= 4 * kPi;
+  std::vector<double> excess(w * h);
+  double excess_total = 0.0;
+  for (size_t r = 0; r < h; ++r)
+    for (size_t c = 0; c < w; ++c) {
+      const double above = luminance(map->texels[r * w + c]) - mean;
+      excess[r * w + c] = above > 0.0 ? above * solid_angles[r] : 0.0;
+      excess_total += excess[r * w + c];
+    }
+  map->has_compensated = excess_total > 0.0;
+  if (map->has_compensated) map->compensated = PiecewiseConstant2D(excess, w, h);
   map->integral = Imath::V3f(static_cast<float>(integral[0]), static_cast<float>(integral[1]),
                              static_cast<float>(integral[2]));
   for (int i = 0; i < 9; ++i)
@@ -177,7 +201,8 @@ std::array<int, 2> Environment::texel_of(const Imath::V3f& direction) const {
   return texel;
 }
 
-bool Environment::sample(const Imath::V2f& u, EnvironmentSample* out) const {
+bool Environment::sample(const Imath::V2f& u, EnvironmentSample* out,
+                         EnvironmentDensity density) const {
   if (black_) return false;
   if (!map_) {
     const float z = 1.0f - 2.0f * u.x;
@@ -188,9 +213,9 @@ bool Environment::sample(const Imath::V2f& u, EnvironmentSample* out) const {
     out->pdf = 1.0f / (4.0f * std::numbers::pi_v<float>);
     return true;
   }
-  double s = 0.0, t = 0.0, density = 0.0;
+  double s = 0.0, t = 0.0, texel_density = 0.0;
   size_t column = 0, row = 0;
-  map_->distribution.sample(u.x, u.y, &s, &t, &column, &row, &density);
+  map_->by(density).sample(u.x, u.y, &s, &t, &column, &row, &texel_density);
   const double theta = kPi * t, phi = 2 * kPi * s - kPi;
   const double sin_theta = std::sin(theta);
   const double x = sin_theta * std::cos(phi), y = std::cos(theta), z = sin_theta * std::sin(phi);
@@ -211,41 +236,43 @@ bool Environment::sample(const Imath::V2f& u, EnvironmentSample* out) const {
   const double in_t = t * map_->height - static_cast<double>(row);
   if (sin_theta > 0.0 && in_s > margin_s && in_s < 1.0 - margin_s && in_t > margin_t &&
       in_t < 1.0 - margin_t) {
-    out->pdf = map_pdf(out->wi, static_cast<int>(column), static_cast<int>(row));
+    out->pdf = map_pdf(out->wi, static_cast<int>(column), static_cast<int>(row), density);
     out->radiance = map_->texels[row * static_cast<size_t>(map_->width) + column];
   } else {
-    out->radiance = radiance_and_pdf(out->wi, &out->pdf);
+    out->radiance = radiance_and_pdf(out->wi, &out->pdf, density);
   }
   return out->pdf > 0.0f;
 }
 
-Imath::V3f Environment::radiance_and_pdf(const Imath::V3f& wi, float* pdf) const {
+Imath::V3f Environment::radiance_and_pdf(const Imath::V3f& wi, float* pdf,
+                                         EnvironmentDensity density) const {
   if (black_ || !map_) {
-    *pdf = this->pdf(wi);
+    *pdf = this->pdf(wi, density);
     return radiance(wi);
   }
   int column = 0, row = 0;
   const size_t texel = map_->texel_index(wi, &column, &row);
-  *pdf = map_pdf(wi, column, row);
+  *pdf = map_pdf(wi, column, row, density);
   return map_->texels[texel];
 }
 
-float Environment::pdf(const Imath::V3f& wi) const {
+float Environment::pdf(const Imath::V3f& wi, EnvironmentDensity density) const {
   if (black_) return 0.0f;
   if (!map_) return 1.0f / (4.0f * std::numbers::pi_v<float>);
   int column = 0, row = 0;
   map_->texel_index(wi, &column, &row);
-  return map_pdf(wi, column, row);
+  return map_pdf(wi, column, row, density);
 }
 
-float Environment::map_pdf(const Imath::V3f& wi, int column, int row) const {
+float Environment::map_pdf(const Imath::V3f& wi, int column, int row,
+                           EnvironmentDensity density) const {
   // From x and z, not sqrt(1 - y^2): near the poles y rounds to 1 while x and z still say
   // how far from the pole the direction is.
   const double sin_theta = std::hypot(double(wi.x), double(wi.z));
   if (sin_theta <= 0.0) return 0.0f;
   // (s, t) -> direction stretches area by dw = 2 pi^2 sin(theta) ds dt.
   return static_cast<float>(
-      map_->distribution.density(static_cast<size_t>(column), static_cast<size_t>(row)) /
+      map_->by(density).density(static_cast<size_t>(column), static_cast<size_t>(row)) /
       (2 * kPi * kPi * sin_theta));
 }
 

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
 
 #include <Imath/ImathVec.h>
@@ -21,6 +22,16 @@
 #include "renderer/image/image.h"
 
 namespace prism {
+
+// Which density the environment is sampled by. `complete` reaches every direction that sends
+// light: what a light sample needs when nothing else finds the light. `beside_bsdf` is for a
+// light sample weighed by multiple importance sampling against a BSDF sample that can reach
+// every direction the light sample can: the map less its mean radiance, clamped at zero, so
+// that light samples go to what is brighter than the mean (a sun, a window) and the BSDF's
+// samples, which MIS then weighs whole there, find the rest (MIS compensation: Karlik et al.
+// 2019, pbrt-v4's allowIncompletePDF). A uniform environment, or a map with no texel above
+// its mean, has only the complete density.
+enum class EnvironmentDensity : uint8_t { complete, beside_bsdf };
 
 struct EnvironmentSample {
   Imath::V3f wi;        // unit, from the shading point out to the environment
@@ -61,12 +72,16 @@ class Environment {
   // draws a texel in proportion to its luminance times its solid angle, then a point in it
   // uniformly in (column, row). The radiance and pdf returned are exactly radiance(wi) and
   // pdf(wi).
-  bool sample(const Imath::V2f& u, EnvironmentSample* out) const;
+  // With `density` beside_bsdf the texel is drawn by its luminance above the map's mean
+  // instead, and pdf() must be asked for the same density.
+  bool sample(const Imath::V2f& u, EnvironmentSample* out,
+              EnvironmentDensity density = EnvironmentDensity::complete) const;
   // The density sample() gives direction `wi` (unit).
-  float pdf(const Imath::V3f& wi) const;
+  float pdf(const Imath::V3f& wi, EnvironmentDensity density = EnvironmentDensity::complete) const;
   // radiance(wi) and pdf(wi) at once, with one lookup of the texel: what a path that escapes
   // after a BSDF sample needs to weigh the light it finds.
-  Imath::V3f radiance_and_pdf(const Imath::V3f& wi, float* pdf) const;
+  Imath::V3f radiance_and_pdf(const Imath::V3f& wi, float* pdf,
+                              EnvironmentDensity density = EnvironmentDensity::complete) const;
   // Power (W per channel) through a sphere of `scene_radius` around the scene: what the
   // environment delivers to the scene, for choosing between it and the scene's lights:
   // pi r^2 times the integral of the radiance over the sphere.
@@ -86,7 +101,7 @@ class Environment {
   struct Map;
   Imath::V3f map_radiance(const Imath::V3f& direction) const;
   // The map's density at `wi`, which falls in texel (column, row).
-  float map_pdf(const Imath::V3f& wi, int column, int row) const;
+  float map_pdf(const Imath::V3f& wi, int column, int row, EnvironmentDensity density) const;
 
   Imath::V3f radiance_{0.0f, 0.0f, 0.0f};  // uniform only
   std::shared_ptr<const Map> map_;
