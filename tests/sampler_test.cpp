@@ -113,6 +113,27 @@ TEST(SamplerDimensions, PixelSamplerHandsOutDimensionsInOrder) {
   }
 }
 
+// reverse_bits32 against the definition, bit by bit: every single bit, its neighbours' pairs
+// and a million values from a fixed-seed hash.
+TEST(Sampler, ReverseBitsMovesBitIToBit31MinusI) {
+  const auto reference = [](uint32_t x) {
+    uint32_t r = 0;
+    for (int i = 0; i < 32; ++i)
+      if (x & (1u << i)) r |= 1u << (31 - i);
+    return r;
+  };
+  for (int i = 0; i < 32; ++i) {
+    ASSERT_EQ(reverse_bits32(1u << i), 1u << (31 - i)) << i;
+    ASSERT_EQ(reverse_bits32(3u << (i % 31)), reference(3u << (i % 31))) << i;
+  }
+  uint64_t state = 0x1234567;
+  for (int k = 0; k < 1000000; ++k) {
+    const uint32_t x = static_cast<uint32_t>(mix64(state++));
+    ASSERT_EQ(reverse_bits32(x), reference(x)) << x;
+    ASSERT_EQ(reverse_bits32(reverse_bits32(x)), x) << x;
+  }
+}
+
 TEST(Sampler, UnscrambledSobolMatchesTheKnownFirstPoints) {
   // Dimension 0 is the radical inverse; dimension 1 (in binary index order, not Gray-code
   // order) takes the XOR of the direction numbers 1/2, 3/4, 5/8, 15/16 selected by the bits.
