@@ -330,12 +330,18 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
     def prism_cmd(exr, spp):
         cmd = [prism, "render", glb, "-o", exr, "--integrator", "path", "--spp", str(spp),
                "--max-depth", str(args.max_depth), "--res", res, "--threads",
-               str(args.threads), "--quiet"]
+               str(args.threads), "--verbose"]
         return cmd + (["--environment", environment] if environment else [])
 
     def cycles_seconds(text):
         return float(next(l.split()[1] for l in text.splitlines()
                           if l.startswith("PEER_RENDER_TIME")))
+
+    def prism_total_seconds(text):
+        # "render time  R s (load + build L s, total T s)": load, BVH and render, the scope of
+        # Cycles' render call (which leaves Blender's start-up and glTF import out).
+        line = next(l for l in text.splitlines() if l.startswith("render time"))
+        return float(line.split("total ")[1].split(" s")[0])
 
     references = {}
     exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, args.reference_spp))
@@ -345,7 +351,7 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
     run(prism_cmd(exr, args.reference_spp), exr + ".log")
     references["prism"] = read_rgba(exr)
 
-    times = {"prism": [], "cycles": []}
+    times = {"prism": [], "cycles": [], "prism_total": []}
     images = {}
     for _ in range(args.repeats):
         exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, args.test_spp))
@@ -353,22 +359,40 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
         times["cycles"].append(cycles_seconds(text))
         images["cycles"] = read_rgba(exr)
         exr = os.path.join(out, "ee_prism_%s_%d.exr" % (name, args.test_spp))
-        _, seconds = run(prism_cmd(exr, args.test_spp), exr + ".log")
+        text, seconds = run(prism_cmd(exr, args.test_spp), exr + ".log")
         times["prism"].append(seconds)
+        times["prism_total"].append(prism_total_seconds(text))
         images["prism"] = read_rgba(exr)
     row = {"res": res, "test_spp": args.test_spp, "reference_spp": args.reference_spp,
            "repeats": args.repeats}
+    # Prism's samples are a pure function of (pixel, sample): its reference's first test_spp
+    # samples are the test render's own, and an error measured against it would leave their
+    # noise out (by 1 - 2 N / M of the variance, 22 % at 256 against 2048). Each pixel is the
+    # mean of its samples, so the mean of the reference's other M - N samples is
+    # (M R - N T) / (M - N): a reference independent of the test, as Cycles' (another seed).
+    m, n = float(args.reference_spp), float(args.test_spp)
+    references["prism"] = references["prism"].copy()
+    references["prism"][..., :3] = (m * references["prism"][..., :3] -
+                                    n * images["prism"][..., :3]) / (m - n)
+    row["prism_reference_spp_independent"] = args.reference_spp - args.test_spp
     for who in ("prism", "cycles"):
         row[who + "_rel_mse"] = rel_mse(images[who], references[who])
         row[who + "_seconds"] = statistics.median(times[who])
         row[who + "_seconds_all"] = times[who]
+    row["prism_total_seconds"] = statistics.median(times["prism_total"])
+    row["prism_total_seconds_all"] = times["prism_total"]
     row["time_to_equal_error_prism_over_cycles"] = (
         row["prism_rel_mse"] * row["prism_seconds"]) / (row["cycles_rel_mse"] * row["cycles_seconds"])
-    print("%s equal error at %s, %d spp against %d spp of each: Prism relMSE %.4g in %.2f s, "
-          "Cycles relMSE %.4g in %.2f s (medians of %d): Prism time / Cycles time = %.3f" %
+    row["time_to_equal_error_render_calls"] = (
+        row["prism_rel_mse"] * row["prism_total_seconds"]) / (
+            row["cycles_rel_mse"] * row["cycles_seconds"])
+    print("%s equal error at %s, %d spp against %d spp of each: Prism relMSE %.4g in %.2f s "
+          "(whole process; %.2f s load, BVH and render), Cycles relMSE %.4g in %.2f s (medians "
+          "of %d): Prism time / Cycles time = %.3f (whole process), %.3f (render calls)" %
           (name, res, args.test_spp, args.reference_spp, row["prism_rel_mse"],
-           row["prism_seconds"], row["cycles_rel_mse"], row["cycles_seconds"], args.repeats,
-           row["time_to_equal_error_prism_over_cycles"]))
+           row["prism_seconds"], row["prism_total_seconds"], row["cycles_rel_mse"],
+           row["cycles_seconds"], args.repeats, row["time_to_equal_error_prism_over_cycles"],
+           row["time_to_equal_error_render_calls"]))
     results[name + " equal error"] = row
 
 
