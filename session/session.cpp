@@ -423,9 +423,10 @@ const Environment& Session::environment(const RenderJob& job) {
                          format_number(job.background[k]) + ": must be a finite radiance >= 0");
   Environment made;
   if (!e.path.empty()) {
-    // What the map costs while it is made: read as RGBA floats, kept as RGB with a
-    // cumulative distribution in double, and the weights it is built from.
-    constexpr int64_t kBytesPerTexel = 16 + 12 + 8 + 8;
+    // What the map costs while it is made: read as RGBA floats, kept as RGB with two
+    // sampling distributions (complete, and beside a BSDF sample), each a cumulative table
+    // in double and a guide table of indices, and the two weight tables they are built from.
+    constexpr int64_t kBytesPerTexel = 16 + 12 + 2 * (8 + 8) + 2 * 8;
     const int64_t max_pixels = std::min<int64_t>(
         int64_t{1} << 30, static_cast<int64_t>(options_.memory_budget_bytes) / kBytesPerTexel);
     Image map;
