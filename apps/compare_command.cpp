@@ -27,6 +27,10 @@
 namespace prism {
 namespace {
 
+// The sample stream rendered references draw (RenderSettings::seed); the compared renders
+// keep seed 0, every render's.
+constexpr uint32_t kReferenceSeed = 1;
+
 namespace fs = std::filesystem;
 
 // The process's peak resident set so far (Linux reports ru_maxrss in KiB). A high-water
@@ -229,7 +233,11 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     starting(name + " reference");
     row.spp = o_.reference_spp;
     const std::string cache_dir = reference_cache_dir();
-    const RenderJob job = job_for(*integrator, analytic, o_.reference_spp);
+    RenderJob job = job_for(*integrator, analytic, o_.reference_spp);
+    // Its own sample stream: with the renders' seed, the reference's first samples would be
+    // the compared render's own (path's wholly, every integrator's pixel positions), and
+    // their noise would drop out of the error measured against it.
+    job.film.seed = kReferenceSeed;
     const ParameterValues parameters(integrator->parameters, job.integrator_parameters);
     const ReferenceKey key = reference_key(o_.scene.scene_path, job, session_.film(job), parameters,
                                            camera, camera_index);

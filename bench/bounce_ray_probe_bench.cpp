@@ -21,6 +21,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -164,6 +165,48 @@ Ray to_ray(const probe::RecordedRay& r) {
   return ray;
 }
 
+// The 1-wide rays again, through Prism's own trace layer: EmbreeScene::intersect (Embree's
+// rtcIntersect1 and the hit Prism makes of it: position, normals, texture coordinates, error
+// bound, and the retrace past a culled back face) and EmbreeScene::occluded, split over
+// threads as the raw replay is. Against the raw replay it is what Prism's wrapping of the two
+// calls costs, apart from everything else a path vertex does.
+struct LayerRate {
+  double intersect_per_second = 0.0, occluded_per_second = 0.0, per_second = 0.0;
+  size_t hits = 0, blocked = 0;
+};
+LayerRate measure_trace_layer(const EmbreeScene& geometry, const std::vector<Ray>& bounce,
+                              const std::vector<Ray>& shadow, int threads, double min_seconds) {
+  LayerRate rate;
+  double intersect_time = 0.0, occluded_time = 0.0;
+  size_t repeats = 0;
+  do {  // at least once
+    std::atomic<size_t> hits{0}, blocked{0};
+    auto start = probe::Clock::now();
+    probe::run_parallel(bounce.size(), threads, [&](size_t first, size_t last) {
+      size_t n = 0;
+      SurfaceHit hit;
+      for (size_t i = first; i < last; ++i) n += geometry.intersect(bounce[i], &hit) ? 1 : 0;
+      hits += n;
+    });
+    intersect_time += probe::seconds_since(start);
+    start = probe::Clock::now();
+    probe::run_parallel(shadow.size(), threads, [&](size_t first, size_t last) {
+      size_t n = 0;
+      for (size_t i = first; i < last; ++i) n += geometry.occluded(shadow[i]) ? 1 : 0;
+      blocked += n;
+    });
+    occluded_time += probe::seconds_since(start);
+    rate.hits = hits;
+    rate.blocked = blocked;
+    ++repeats;
+  } while (intersect_time + occluded_time < min_seconds);
+  const double r = double(repeats);
+  rate.intersect_per_second = r * double(bounce.size()) / intersect_time;
+  rate.occluded_per_second = r * double(shadow.size()) / occluded_time;
+  rate.per_second = r * double(bounce.size() + shadow.size()) / (intersect_time + occluded_time);
+  return rate;
+}
+
 int run(const Options& o, char** argv) {
   const Setup setup(o);
   if (!o.record_to.empty()) {
@@ -199,16 +242,20 @@ int run(const Options& o, char** argv) {
   std::printf(
       "| threads | Embree 1-wide bounce Mrays/s | 1-wide shadow | all rays as Prism traced "
       "them | Prism path Mrays/s | Prism / Embree, all rays | Prism / Embree 1-wide rays | "
-      "Prism render s | Embree s |\n"
-      "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+      "Prism render s | Embree s | Prism trace layer 1-wide Mrays/s | trace layer / Embree "
+      "1-wide |\n"
+      "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
   const double all_rays = double(recorded.size());
   for (int threads : o.threads) {
-    std::vector<double> bounce, shadow, single, all, prism_rate, prism_s, embree_s;
+    std::vector<double> bounce, shadow, single, all, prism_rate, prism_s, embree_s, layer;
     for (int rep = 0; rep < o.reps; ++rep) {
       const probe::TraceRate c =
           probe::measure_rays(&coherent, raw.scene(), threads, o.min_seconds);
       const probe::TraceRate s =
           probe::measure_rays(&incoherent, raw.scene(), threads, o.min_seconds);
+      layer.push_back(measure_trace_layer(setup.prism->geometry(), intersect1, occluded1, threads,
+                                          o.min_seconds)
+                          .per_second);
       bounce.push_back(s.intersect_per_second);
       shadow.push_back(s.occluded_per_second);
       single.push_back(s.per_second);
@@ -225,10 +272,11 @@ int run(const Options& o, char** argv) {
       prism_rate.push_back(rays / seconds);
     }
     const double p = probe::median(prism_rate);
-    std::printf("| %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.4f | %.4f |\n", threads,
-                probe::median(bounce) / 1e6, probe::median(shadow) / 1e6, probe::median(all) / 1e6,
-                p / 1e6, p / probe::median(all), p / probe::median(single), probe::median(prism_s),
-                probe::median(embree_s));
+    std::printf("| %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.4f | %.4f | %.3f | %.3f |\n",
+                threads, probe::median(bounce) / 1e6, probe::median(shadow) / 1e6,
+                probe::median(all) / 1e6, p / 1e6, p / probe::median(all),
+                p / probe::median(single), probe::median(prism_s), probe::median(embree_s),
+                probe::median(layer) / 1e6, probe::median(layer) / probe::median(single));
   }
   return 0;
 }

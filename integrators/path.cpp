@@ -138,7 +138,7 @@ struct PathTracer {
                           for (int i = 0; i < p.count; ++i) {
                             results[i].hit = p.found[i];
                             results[i].radiance = trace(p.rays[i], p.hits[i], p.found[i],
-                                                        p.pixel_index[i], p.sample_index, c);
+                                                        p.sample_key[i], p.sample_index, c);
                           }
                         });
   }

@@ -40,9 +40,10 @@ inline void add_sample(const SampleResult& r, PixelSums* sums, RayCounters* coun
 struct CameraPacket {
   int count = 0;
   // Which sample of which pixels: an integrator draws the rest of each lane's sample from
-  // PixelSampler(pixel_index[i], sample_index), dimensions 0 and 1 being the pixel position.
+  // PixelSampler(sample_key[i], sample_index), dimensions 0 and 1 being the pixel position;
+  // the key is the pixel's index under the render's seed (pixel_sample_key).
   uint32_t sample_index = 0;
-  uint64_t pixel_index[EmbreeScene::kPacketSize];
+  uint64_t sample_key[EmbreeScene::kPacketSize];
   Ray rays[EmbreeScene::kPacketSize];
   SurfaceHit hits[EmbreeScene::kPacketSize];
   bool found[EmbreeScene::kPacketSize];
@@ -70,7 +71,8 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
   const int end = pass.end < 0 ? spp : pass.end;
   struct BlockPixel {
     int x, y;
-    uint64_t index;
+    uint64_t index;  // into the image and the pass's per-pixel state
+    uint64_t key;    // what its samples are drawn by
     PixelSums sums;
   };
   BlockPixel pixels[EmbreeScene::kPacketSize];
@@ -83,8 +85,9 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
         for (int x = bx; x < std::min(bx + kBlock, tile.x1); ++x) {
           const uint64_t index = static_cast<uint64_t>(y) * context.settings.width + x;
           if (pass.active && !pass.active[index]) continue;
-          packet.pixel_index[count] = index;
-          pixels[count++] = {x, y, index, pass.sums ? pass.sums[index] : PixelSums{}};
+          const uint64_t key = pixel_sample_key(index, context.settings.seed);
+          packet.sample_key[count] = key;
+          pixels[count++] = {x, y, index, key, pass.sums ? pass.sums[index] : PixelSums{}};
         }
       }
       if (count == 0) continue;
@@ -98,7 +101,7 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
           // depends only on (pixel, s).
           const PixelSample2D j =
               spp == 1 ? PixelSample2D{0.5f, 0.5f}
-                       : sobol_owen_pixel_sample(pixels[i].index, static_cast<uint32_t>(s));
+                       : sobol_owen_pixel_sample(pixels[i].key, static_cast<uint32_t>(s));
           packet.rays[i] = context.camera.generate_ray(static_cast<float>(pixels[i].x) + j.x,
                                                        static_cast<float>(pixels[i].y) + j.y);
         }

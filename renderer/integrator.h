@@ -72,6 +72,11 @@ struct RenderSettings {
   // the full frame's, bit for bit (with adaptive sampling, pixels at its edge may take other
   // sample counts: their neighbourhood is cut). Empty (x1 == 0): the whole frame.
   TileRect region{0, 0, 0, 0};
+  // Which of the independent sample streams the render draws (renderer/sampling/sampler.h,
+  // pixel_sample_key). 0, the default, is every render's; another seed gives the same image
+  // in expectation with noise independent of seed 0's: what a reference must be to measure a
+  // render's error (its first samples would otherwise be the render's own).
+  uint32_t seed = 0;
   bool adaptive() const { return target_error > 0.0f || time_limit_seconds > 0.0; }
   bool has_region() const { return region.x1 > 0; }
   TileRect rendered() const { return has_region() ? region : TileRect{0, 0, width, height}; }

@@ -96,6 +96,8 @@ std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
   line("target-error", number(job.film.target_error));
   line("time-limit", number(job.film.time_limit_seconds));
   line("min-spp", std::to_string(job.film.min_spp));
+  // Only when set: seed 0's jobs keep the fingerprints they had before seeds existed.
+  if (job.film.seed != 0) line("seed", std::to_string(job.film.seed));
   if (job.film.has_region()) {
     const TileRect& r = job.film.region;
     line("region", std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) +

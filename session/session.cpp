@@ -687,6 +687,7 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, BuildQuali
   }
   m.extra.push_back({"discardedSamples", std::to_string(out.result.rays.discarded_samples)});
   const RenderSettings& s = p.film;
+  if (s.seed != 0) m.extra.push_back({"sampleSeed", std::to_string(s.seed)});
   if (s.adaptive()) {  // docs/sampling.md: spp above is then the most a pixel took
     m.extra.insert(m.extra.end(),
                    {{"adaptiveTargetError", format_number(s.target_error)},

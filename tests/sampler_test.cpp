@@ -134,6 +134,37 @@ TEST(Sampler, ReverseBitsMovesBitIToBit31MinusI) {
   }
 }
 
+// Seeds: seed 0's key is the pixel index itself (images from before seeds are unchanged);
+// seed 1's keys are distinct from each other over a million pixels, and its sample values
+// are uncorrelated with seed 0's pixel by pixel (the pixel position pair and a later pair).
+TEST(Sampler, SeedsDrawIndependentStreams) {
+  constexpr uint64_t kPixels = 1000000;
+  std::vector<uint64_t> keys;
+  keys.reserve(kPixels);
+  for (uint64_t i = 0; i < kPixels; ++i) {
+    ASSERT_EQ(pixel_sample_key(i, 0), i);
+    keys.push_back(pixel_sample_key(i, 1));
+  }
+  std::sort(keys.begin(), keys.end());
+  EXPECT_EQ(std::adjacent_find(keys.begin(), keys.end()), keys.end());
+  for (uint32_t dimension : {0u, 1u, 6u}) {
+    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+    constexpr int kCount = 200000;
+    for (int i = 0; i < kCount; ++i) {
+      const double a = sample_dimension(pixel_sample_key(uint64_t(i), 0), 3, dimension);
+      const double b = sample_dimension(pixel_sample_key(uint64_t(i), 1), 3, dimension);
+      sa += a, sb += b, saa += a * a, sbb += b * b, sab += a * b;
+    }
+    const double n = kCount;
+    const double r = (sab / n - sa / n * sb / n) /
+                     std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n));
+    std::printf("dimension %u, sample 3: correlation between seeds 0 and 1 over %d pixels %+.5f\n",
+                dimension, kCount, r);
+    // Independent: |r| of the order of 1 / sqrt(n) = 0.0022.
+    EXPECT_LT(std::fabs(r), 0.01) << dimension;
+  }
+}
+
 TEST(Sampler, UnscrambledSobolMatchesTheKnownFirstPoints) {
   // Dimension 0 is the radical inverse; dimension 1 (in binary index order, not Gray-code
   // order) takes the XOR of the direction numbers 1/2, 3/4, 5/8, 15/16 selected by the bits.

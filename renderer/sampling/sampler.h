@@ -166,6 +166,16 @@ inline float sample_dimension(uint64_t pixel_index, uint32_t sample_index, uint3
                                    dimension);
 }
 
+// The key a pixel's samples are scrambled and shuffled by, in place of its index: the index
+// itself for seed 0 (so every image rendered before seeds existed is unchanged), else the
+// index and the seed hashed together, so that another seed draws scrambles independent of
+// seed 0's for every pixel. Distinct (pixel, seed) give distinct keys: the index fits in the
+// low 32 bits for any image Prism renders, and mix64 is a bijection.
+inline uint64_t pixel_sample_key(uint64_t pixel_index, uint32_t seed) {
+  if (seed == 0) return pixel_index;
+  return mix64(pixel_index ^ (static_cast<uint64_t>(seed) << 32) ^ 0x6a09e667f3bcc909ULL);
+}
+
 // Sample `sample_index` of pixel `pixel_index`: a point of the pixel's own Owen-scrambled
 // Sobol (0,2)-sequence, dimensions 0 and 1.
 inline PixelSample2D sobol_owen_pixel_sample(uint64_t pixel_index, uint32_t sample_index) {

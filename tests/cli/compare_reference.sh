@@ -44,9 +44,16 @@ def err(integ, spp, mode="analytic"):
                 and x["spheres"] == mode and x["sampling"] == "uniform")
 if not err("path", 16) < err("path", 1):
     bad.append("path's error does not fall with spp: %s %s" % (err("path", 1), err("path", 16)))
+# Path's error at 16 spp is its noise, (1/16 + 1/64) of a sample's variance against the
+# reference's independent 64 samples (about 0.06 here); the biased integrators' is what they
+# leave out, which more samples do not remove: far above path's, and no lower at 16 spp
+# than at 4 (their own anti-aliasing noise aside). (With a reference that shared path's
+# samples, path's error read lower and the first ratio above 10; docs/compare.md.)
 for biased in ("whitted", "shadow"):
-    if not err(biased, 16) > 10 * err("path", 16):
+    if not err(biased, 16) > 5 * err("path", 16):
         bad.append("%s's bias does not show: relMSE %s against path's %s" % (biased, err(biased, 16), err("path", 16)))
+    if not err(biased, 16) > 0.9 * err(biased, 4):
+        bad.append("%s's error falls with spp as noise would: %s at 4, %s at 16" % (biased, err(biased, 4), err(biased, 16)))
 # Heat maps: one per test row, on the scale of the reference's mean.
 ref = oiio.ImageBuf(os.path.join(d, "images", "path-reference.exr")).get_pixels(oiio.FLOAT)
 mean = float(ref[..., :3].mean())
