@@ -244,16 +244,10 @@ class Bsdf {
   Imath::V3f base_albedo(const Imath::V3f& wo, const Imath::V3f& n, bool back_face,
                          AlbedoScope scope) const {
     if (lambertian_) return lobes_.diffuse_albedo;
-    const float cos_v = fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n)));
-    GgxAlbedo layer{1.0f, schlick_weight(cos_v)};
-    if (!lobes_.mirror) layer = ggx_albedo(cos_v, lobes_.alpha);
-    const Imath::V3f dielectric_layer =
-        lobes_.dielectric_f0 * layer.e +
-        (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * layer.e_schlick;
-    Imath::V3f total = lobes_.diffuse_albedo * (1.0f - fmin_inline(1.0f, max_of(dielectric_layer)));
+    const OpaqueAlbedos opaque = opaque_albedos(fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n))));
+    Imath::V3f total = opaque.diffuse;
     const bool with_delta = scope == AlbedoScope::all_lobes;
-    if (!lobes_.mirror || with_delta)
-      total += mirror_f0() * layer.e + (mirror_f90() - mirror_f0()) * layer.e_schlick;
+    if (!lobes_.mirror || with_delta) total += opaque.layer;
     if (with_delta && lobes_.transmission > 0.0f) {
       SpecularLobe lobes[2];
       const int count = base_specular_lobes<false, true>(wo, n, back_face, lobes);
@@ -554,6 +548,22 @@ class Bsdf {
     cached_choice_wo_ = Imath::V3f(0.0f);
     cached_choice_n_ = Imath::V3f(0.0f);
   }
+  // The albedos at cos_v (the view's cosine to the normal) of the diffuse base, under what the
+  // dielectric's layer reflects, and of the specular layer over the opaque parts, from the
+  // tabulated GGX albedo (or the smooth layer's Schlick weight where it is a mirror): what
+  // base_albedo() sums and choice_by_albedo() splits on.
+  struct OpaqueAlbedos {
+    Imath::V3f diffuse, layer;
+  };
+  OpaqueAlbedos opaque_albedos(float cos_v) const {
+    GgxAlbedo layer{1.0f, schlick_weight(cos_v)};
+    if (!lobes_.mirror) layer = ggx_albedo(cos_v, lobes_.alpha);
+    const Imath::V3f dielectric_layer =
+        lobes_.dielectric_f0 * layer.e +
+        (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * layer.e_schlick;
+    return {lobes_.diffuse_albedo * (1.0f - fmin_inline(1.0f, max_of(dielectric_layer))),
+            mirror_f0() * layer.e + (mirror_f90() - mirror_f0()) * layer.e_schlick};
+  }
   // The opaque glTF layer over its diffuse base: diffuse and glossy in proportion to their
   // albedos at wo (the tabulated GGX albedo, as base_albedo()). The layer's F90 of 1 would
   // otherwise weigh the glossy lobe as if it reflected everything, where a dielectric's
@@ -561,15 +571,8 @@ class Bsdf {
   // eval at one vertex share wo, so the choice is formed once per wo.
   LobeChoice choice_by_albedo(const Imath::V3f& wo, const Imath::V3f& n) const {
     if (wo == cached_choice_wo_ && n == cached_choice_n_) return cached_choice_;
-    const float cos_v = fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n)));
-    const GgxAlbedo layer = ggx_albedo(cos_v, lobes_.alpha);
-    const Imath::V3f dielectric_layer =
-        lobes_.dielectric_f0 * layer.e +
-        (Imath::V3f(lobes_.dielectric_f90) - lobes_.dielectric_f0) * layer.e_schlick;
-    const float diffuse =
-        luminance(lobes_.diffuse_albedo) * (1.0f - fmin_inline(1.0f, max_of(dielectric_layer)));
-    const float glossy = luminance(lobes_.specular_f0 * layer.e +
-                                   (lobes_.specular_f90 - lobes_.specular_f0) * layer.e_schlick);
+    const OpaqueAlbedos opaque = opaque_albedos(fmin_inline(1.0f, fmax_inline(0.0f, dot(wo, n))));
+    const float diffuse = luminance(opaque.diffuse), glossy = luminance(opaque.layer);
     const float total = diffuse + glossy;
     LobeChoice c;
     if (total > 0.0f) c = {0.0f, diffuse / total, glossy / total};
