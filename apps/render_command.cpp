@@ -88,6 +88,7 @@ RenderRequest render_request(const RenderOptions& o) {
   job.film.target_error = static_cast<float>(o.target_error);
   job.film.time_limit_seconds = o.time_limit;
   job.film.min_spp = o.min_spp;
+  job.film.seed = static_cast<uint32_t>(o.seed);
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
   // Adaptive sampling decides after --min-spp samples and stops at --spp: with no room
@@ -355,6 +356,12 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "Adaptive sampling: samples every pixel takes before the first decision (a "
                   "power of two)")
       ->check(whole_number(1, 1 << 16))
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed,
+                  "Sample streams: 0 is the default render's; any other draws independent noise "
+                  "with the same expected image, e.g. to estimate a render's error against "
+                  "another, or a reference that shares no samples with what it measures")
+      ->check(whole_number(0, 2147483647))
       ->capture_default_str();
   cmd->add_option("--region", o->region,
                   "X0,Y0,X1,Y1: render only the pixels X0 <= x < X1, Y0 <= y < Y1 (from the top "

@@ -26,6 +26,9 @@ struct RenderOptions {
   double target_error = 0.0;
   double time_limit = 0.0;
   int min_spp = 8;
+  // Selects the pixels' sample streams (RenderSettings::seed): 0 is every render's by default;
+  // another gives the same image in expectation with independent noise.
+  int seed = 0;
   std::string sample_count_path;  // also write each pixel's sample count as an EXR
   std::string region;             // "X0,Y0,X1,Y1": render only these pixels; empty = all
   std::string spheres = "analytic";
