@@ -157,7 +157,7 @@ class PySession : public std::enable_shared_from_this<PySession> {
                 const std::string& reference, const Scene3& background,
                 const std::string& environment, const EnvironmentOptions& env,
                 const CameraOptions& view, const std::optional<std::array<int, 4>>& region,
-                const py::dict& parameters) const {
+                long long seed, const py::dict& parameters) const {
     RenderJob job;
     job.integrator = integrator;
     if (camera == "auto")
@@ -195,6 +195,11 @@ class PySession : public std::enable_shared_from_this<PySession> {
     job.film.target_error = static_cast<float>(target_error);
     job.film.time_limit_seconds = time_limit;
     job.film.min_spp = min_spp;
+    // The command line's --seed range, so that a job means the same from either.
+    if (seed < 0 || seed > 2147483647)
+      throw RequestError("seed",
+                         std::to_string(seed) + ": must be a whole number from 0 to 2147483647");
+    job.film.seed = static_cast<uint32_t>(seed);
     // Checked against the image by the session, as the command line's --region.
     if (region) job.film.region = TileRect{(*region)[0], (*region)[1], (*region)[2], (*region)[3]};
     job.working_space = choice<WorkingSpace>(working_space, "working-space");
@@ -318,17 +323,18 @@ PYBIND11_MODULE(_prism, m) {
              const py::object& look_from, const py::object& look_at, const py::object& up,
              const std::optional<double>& fov, const std::string& brdf, const std::string& spheres,
              bool robust, const std::string& build_quality, const std::string& reference,
-             const std::optional<std::array<int, 4>>& region, const py::kwargs& parameters) {
+             const std::optional<std::array<int, 4>>& region, long long seed,
+             const py::kwargs& parameters) {
             auto render = std::make_unique<PyRender>();
             render->owner = self.shared_from_this();
             const EnvironmentOptions env{environment_rotation, environment_intensity,
                                          hide_environment};
             const CameraOptions view{to_vector(look_from, "look-from"),
                                      to_vector(look_at, "look-at"), to_vector(up, "up"), fov};
-            render->job =
-                self.job(integrator, spp, resolution, camera, target_error, time_limit, min_spp,
-                         working_space, brdf, spheres, robust, build_quality, reference,
-                         to_background(background), environment, env, view, region, parameters);
+            render->job = self.job(integrator, spp, resolution, camera, target_error, time_limit,
+                                   min_spp, working_space, brdf, spheres, robust, build_quality,
+                                   reference, to_background(background), environment, env, view,
+                                   region, seed, parameters);
             {
               py::gil_scoped_release unlocked;
               render->output = self.session().render(render->job);
@@ -345,10 +351,11 @@ PYBIND11_MODULE(_prism, m) {
           py::arg("look_at") = py::none(), py::arg("up") = py::none(), py::arg("fov") = py::none(),
           py::arg("brdf") = "gltf", py::arg("spheres") = "analytic", py::arg("robust") = false,
           py::arg("build_quality") = "auto", py::arg("reference") = "",
-          py::arg("region") = py::none(),
+          py::arg("region") = py::none(), py::arg("seed") = 0,
           "Renders one job; integrator parameters (max_depth=..., ambient=...) as keywords. "
           "region=(x0, y0, x1, y1) renders only those pixels (x1, y1 exclusive); the rest of "
-          "the image is 0, and a written EXR stores the region as its data window.");
+          "the image is 0, and a written EXR stores the region as its data window. seed=N "
+          "(as render --seed) draws another, independent sample stream; 0 is the default.");
 
   py::class_<PyRender>(m, "Render", "One finished render: image, rays, timings, metadata.")
       .def_readonly("image", &PyRender::image)
