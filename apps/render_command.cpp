@@ -361,7 +361,7 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "Sample streams: 0 is the default render's; any other draws independent noise "
                   "with the same expected image, e.g. to estimate a render's error against "
                   "another, or a reference that shares no samples with what it measures")
-      ->check(whole_number(0, 2147483647))
+      ->check(whole_number(0, RenderSettings::kMaxSeed))
       ->capture_default_str();
   cmd->add_option("--region", o->region,
                   "X0,Y0,X1,Y1: render only the pixels X0 <= x < X1, Y0 <= y < Y1 (from the top "

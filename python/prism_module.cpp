@@ -196,9 +196,9 @@ class PySession : public std::enable_shared_from_this<PySession> {
     job.film.time_limit_seconds = time_limit;
     job.film.min_spp = min_spp;
     // The command line's --seed range, so that a job means the same from either.
-    if (seed < 0 || seed > 2147483647)
-      throw RequestError("seed",
-                         std::to_string(seed) + ": must be a whole number from 0 to 2147483647");
+    if (seed < 0 || seed > RenderSettings::kMaxSeed)
+      throw RequestError("seed", std::to_string(seed) + ": must be a whole number from 0 to " +
+                                     std::to_string(RenderSettings::kMaxSeed));
     job.film.seed = static_cast<uint32_t>(seed);
     // Checked against the image by the session, as the command line's --region.
     if (region) job.film.region = TileRect{(*region)[0], (*region)[1], (*region)[2], (*region)[3]};

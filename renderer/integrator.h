@@ -77,6 +77,9 @@ struct RenderSettings {
   // in expectation with noise independent of seed 0's: what a reference must be to measure a
   // render's error (its first samples would otherwise be the render's own).
   uint32_t seed = 0;
+  // The largest seed a user may ask for: the command line's and Python's whole numbers are
+  // ints, so every front end accepts the same range.
+  static constexpr int kMaxSeed = 2147483647;
   bool adaptive() const { return target_error > 0.0f || time_limit_seconds > 0.0; }
   bool has_region() const { return region.x1 > 0; }
   TileRect rendered() const { return has_region() ? region : TileRect{0, 0, width, height}; }
