@@ -23,21 +23,4 @@ EmitterSampler::EmitterSampler(const std::vector<LightSource>& punctual,
   table_ = LightSampler(std::move(weights));
 }
 
-bool EmitterSampler::sample(float u, ChosenEmitter* out) const {
-  SampledLight chosen;
-  if (!table_.sample(u, &chosen)) return false;
-  out->pmf = chosen.pmf;
-  if (has_environment_ && chosen.index == environment_index_) {
-    out->kind = EmitterKind::environment;
-    out->index = 0;
-  } else if (chosen.index >= area_offset_) {
-    out->kind = EmitterKind::area;
-    out->index = chosen.index - area_offset_;
-  } else {
-    out->kind = EmitterKind::punctual;
-    out->index = chosen.index;
-  }
-  return out->pmf > 0.0f;
-}
-
 }  // namespace prism

@@ -31,8 +31,23 @@ class EmitterSampler {
                  const Environment& environment, float scene_radius);
 
   bool empty() const { return table_.empty(); }
-  // False when there is nothing to sample.
-  bool sample(float u, ChosenEmitter* out) const;
+  // False when there is nothing to sample. Inline: a path tracer chooses once per vertex.
+  bool sample(float u, ChosenEmitter* out) const {
+    SampledLight chosen;
+    if (!table_.sample(u, &chosen)) return false;
+    out->pmf = chosen.pmf;
+    if (has_environment_ && chosen.index == environment_index_) {
+      out->kind = EmitterKind::environment;
+      out->index = 0;
+    } else if (chosen.index >= area_offset_) {
+      out->kind = EmitterKind::area;
+      out->index = chosen.index - area_offset_;
+    } else {
+      out->kind = EmitterKind::punctual;
+      out->index = chosen.index;
+    }
+    return out->pmf > 0.0f;
+  }
   // The probability sample() chooses each.
   float pmf_area(uint32_t index) const { return table_.pmf(area_offset_ + index); }
   float pmf_environment() const { return has_environment_ ? table_.pmf(environment_index_) : 0.0f; }

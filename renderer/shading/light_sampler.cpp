@@ -41,22 +41,9 @@ LightSampler::LightSampler(std::vector<double> weight) {
     cdf_[i] = sum / total;
   }
   cdf_.back() = 1.0;
-}
-
-bool LightSampler::sample(float u, SampledLight* out) const {
-  if (cdf_.empty()) return false;
-  // The first light whose cumulative share exceeds u; zero-power lights have cdf equal to
-  // their predecessor's and are skipped by upper_bound.
-  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), static_cast<double>(u));
-  const size_t i = std::min(static_cast<size_t>(it - cdf_.begin()), cdf_.size() - 1);
-  out->index = static_cast<uint32_t>(i);
-  out->pmf = pmf(out->index);
-  return true;
-}
-
-float LightSampler::pmf(uint32_t index) const {
-  if (index >= cdf_.size()) return 0.0f;
-  return static_cast<float>(cdf_[index] - (index == 0 ? 0.0 : cdf_[index - 1]));
+  pmf_.resize(cdf_.size());
+  for (size_t i = 0; i < cdf_.size(); ++i)
+    pmf_[i] = static_cast<float>(cdf_[i] - (i == 0 ? 0.0 : cdf_[i - 1]));
 }
 
 }  // namespace prism

@@ -4,6 +4,7 @@
 // thousands. The Whitted integrators still sum every light: that is their model.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -29,12 +30,23 @@ class LightSampler {
   bool empty() const { return cdf_.empty(); }
   // The light whose share of the cumulative power contains u in [0, 1); false when there
   // are no lights.
-  bool sample(float u, SampledLight* out) const;
+  // Inline, with the probabilities tabulated: a path tracer chooses once per vertex.
+  bool sample(float u, SampledLight* out) const {
+    if (cdf_.empty()) return false;
+    // The first light whose cumulative share exceeds u; zero-power lights have cdf equal to
+    // their predecessor's and are skipped by upper_bound.
+    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), static_cast<double>(u));
+    const size_t i = std::min(static_cast<size_t>(it - cdf_.begin()), cdf_.size() - 1);
+    out->index = static_cast<uint32_t>(i);
+    out->pmf = pmf_[i];
+    return true;
+  }
   // The probability sample() chooses light `index`.
-  float pmf(uint32_t index) const;
+  float pmf(uint32_t index) const { return index < pmf_.size() ? pmf_[index] : 0.0f; }
 
  private:
   std::vector<double> cdf_;  // cdf_[i] = power of lights [0, i] / total; cdf_.back() = 1
+  std::vector<float> pmf_;   // cdf_[i] - cdf_[i - 1], rounded once
 };
 
 }  // namespace prism
