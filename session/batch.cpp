@@ -205,6 +205,7 @@ const std::vector<BatchJob>& Batch::plan() {
         job.files.sample_counts =
             substitute(spec.outputs.sample_counts, values, where + ": sample-count-image");
       job.files.pixel_type = spec.pixel_type;
+      job.files.create_directories = true;
       for (const std::string* path :
            {&job.files.image, &job.files.preview, &job.files.sample_counts}) {
         if (path->empty()) continue;
@@ -470,6 +471,9 @@ std::unique_ptr<Batch::RunningJob> Batch::prepare_job(
   running->checkpoint = checkpoint_path(job.files.image);
   try {
     session.check(job.spec.render);
+    // Made now, not when planning, so that a job file that renders nothing makes nothing; the
+    // checkpoint, beside the image, needs its folder before the image does.
+    make_output_directories(job.files);
     if (running->interval > 0.0) {
       std::error_code error;
       if (fs::exists(running->checkpoint, error)) {

@@ -40,15 +40,34 @@ void check_writable(const std::string& path, const char* field) {
   ::unlink(probe.c_str());
 }
 
-void check_path(const std::string& path, const char* extension, const char* field) {
+// The folders a path needs can be made: the nearest of its ancestors that exists is a
+// writable directory.
+void check_creatable(const fs::path& parent, const std::string& path, const char* field) {
+  std::error_code error;
+  fs::path existing = parent;
+  while (!existing.empty() && !fs::exists(existing, error)) existing = existing.parent_path();
+  if (existing.empty()) existing = ".";
+  if (!fs::is_directory(existing, error))
+    throw RequestError(field, path + ": " + existing.string() + " is not a directory");
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    throw RequestError(field, path + ": directory " + parent.string() + " cannot be made in " +
+                                  existing.string() + ": " + std::strerror(errno));
+}
+
+void check_path(const std::string& path, const char* extension, bool create_directories,
+                const char* field) {
   if (extension && !has_extension(path, extension))
     throw RequestError(field, path + ": the file name must end in " + extension);
   ImageFormat format{};
   if (!extension && !image_format_for_path(path, &format))
     throw RequestError(field, path + ": the file name must end in " + kImageExtensions);
   const fs::path parent = fs::path(path).parent_path();
-  if (!parent.empty() && !fs::is_directory(parent))
-    throw RequestError(field, path + ": directory " + parent.string() + " does not exist");
+  if (!parent.empty() && !fs::is_directory(parent)) {
+    if (!create_directories)
+      throw RequestError(field, path + ": directory " + parent.string() + " does not exist");
+    check_creatable(parent, path, field);
+    return;  // no file to try until its folder is made
+  }
   if (fs::is_directory(path)) throw RequestError(field, path + ": is a directory");
   check_writable(path, field);
 }
@@ -67,12 +86,29 @@ void check_output_files(const OutputFiles& files, const std::string& scene_path)
   for (size_t i = 0; i < std::size(outputs); ++i) {
     const Named& o = outputs[i];
     if (o.path->empty()) continue;
-    check_path(*o.path, o.extension, o.field);
+    check_path(*o.path, o.extension, files.create_directories, o.field);
     if (same_file(*o.path, scene_path))
       throw RequestError(o.field, *o.path + ": is the scene file itself");
     for (size_t j = 0; j < i; ++j)
       if (!outputs[j].path->empty() && same_file(*o.path, *outputs[j].path))
         throw RequestError(o.field, *o.path + ": is also the " + outputs[j].field + " file");
+  }
+}
+
+void make_output_directories(const OutputFiles& files) {
+  if (!files.create_directories) return;
+  const std::pair<const std::string*, const char*> outputs[] = {
+      {&files.image, "output"},
+      {&files.preview, "preview"},
+      {&files.sample_counts, "sample-count-image"}};
+  for (const auto& [path, field] : outputs) {
+    const fs::path parent = fs::path(*path).parent_path();
+    if (path->empty() || parent.empty()) continue;
+    std::error_code error;
+    fs::create_directories(parent, error);
+    if (error)
+      throw RequestError(
+          field, *path + ": directory " + parent.string() + " cannot be made: " + error.message());
   }
 }
 

@@ -88,6 +88,9 @@ schema "collision" "$GOOD, "'{"name": "x", "scene": "whitted.gltf", "output": "s
   "jobs\[1\] 'x' and jobs\[0\] 'good' would both write .*s/good.exr"
 schema "version 2" "$GOOD" "version: 2: this Prism reads version 1" 2
 schema "empty list" "" "jobs: must be a list of at least one job"
+# A valid job's missing output folder is not made when another job is invalid.
+schema "no folder made" '{"name": "new", "scene": "spheres.gltf", "output": "s/new/{scene}.exr"}, '"{$X, \"output\": \"s/x.exr\", \"spp\": 0}" \
+  "jobs\[1\] 'x': spp: must be a whole number"
 # Every camera of a file with two, into one name.
 schema "camera all" "$GOOD, "'{"name": "x", "scene": "Cameras.gltf", "camera": "all", "output": "s/c.exr"}' \
   "jobs\[1\] 'x' \(camera cameras_1_\) and jobs\[1\] 'x' \(camera cameras_0_\) would both write .*s/c.exr"
@@ -145,6 +148,32 @@ grep -qE "^prism: \[[1-6]/6\] failed jobs\[1\] 'broken' [0-9.]+ s: .*broken.gltf
   grep -qE "^prism: \[[1-6]/6\] rendered jobs\[5\] 'ok3' [0-9.]+ s$" err ||
   fail "failing jobs: progress lines do not name the jobs: $(cat err)"
 [[ $failures -eq $before ]] && echo "ok: failing jobs: $(tail -n +2 <<<"$got" | tr '\n' ';')"
+
+# ---- Output folders that do not exist yet are made when their job starts, as deep as the
+# placeholders spread them; one under a regular file fails that job alone.
+mkdir d
+touch d/plain
+cat >d/jobs.json <<EOF
+{"version": 1, "defaults": {"res": "16x9"}, "jobs": [
+  {"name": "deep", "scene": "../spheres.gltf", "spp": [1, 2], "output": "out/{scene}/{spp}.exr",
+   "preview": "png/{scene}-{spp}.png"},
+  {"name": "under-file", "scene": "../spheres.gltf", "output": "plain/sub/x.exr"}]}
+EOF
+"$PRISM" batch d/jobs.json --threads 1 --quiet >out 2>err
+code=$?
+got=$(report d "print(s); [print(j['name'], j['error']) for j in r['jobs'] if j['error']]")
+if [[ $code -ne 1 ]]; then
+  fail "output folders: exit $code, expected 1: $(cat err)"
+elif [[ $(head -1 <<<"$got") != "deep=rendered deep=rendered under-file=failed" ]]; then
+  fail "output folders: statuses $got"
+elif ! grep -qE "^under-file output: .*plain/sub/x.exr: .*plain is not a directory" <<<"$got"; then
+  fail "output folders: the error under a file: $got"
+elif [[ $(hashes d/out/spheres/1.exr d/out/spheres/2.exr | wc -l) -ne 2 ]] ||
+  [[ ! -s d/png/spheres-1.png || ! -s d/png/spheres-2.png ]]; then
+  fail "output folders: made $(find d -type f | sort | tr '\n' ' ')"
+else
+  echo "ok: output folders: $(cd d && find out png -type f | sort | tr '\n' ' ')"
+fi
 
 # ---- Up to date: a re-run skips everything; a changed setting, a changed scene file (the
 # .gltf or its .bin), --force and a deleted output re-render exactly what they touch.
