@@ -13,6 +13,7 @@
 
 #include "session/batch.h"
 #include "session/scene_cache.h"
+#include "tests/scratch_dir.h"
 
 #ifndef PRISM_SOURCE_DIR
 #define PRISM_SOURCE_DIR "."
@@ -162,8 +163,7 @@ TEST(SceneCache, BytesFollowTheLeastRecentlyUsedRuleForEveryBudget) {
 }
 
 TEST(SceneCache, RemembersAFailedLoad) {
-  const fs::path dir = fs::temp_directory_path() / "prism_batch_test_failed_load";
-  fs::create_directories(dir);
+  const fs::path dir = test::scratch_dir("batch_test_failed_load");
   const std::string garbage = (dir / "garbage.gltf").string();
   std::ofstream(garbage) << "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [";
   for (const std::string& path : {garbage, (dir / "missing.gltf").string()}) {

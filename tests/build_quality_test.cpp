@@ -19,6 +19,7 @@
 #include "scene_io/gltf_loader.h"
 #include "scene_passes/scene_defaults.h"
 #include "session/session.h"
+#include "tests/scratch_dir.h"
 #include "tests/test_scenes.h"
 
 namespace prism {
@@ -177,8 +178,7 @@ TEST(BuildQuality, ParallelConstructionIsIndependentOfTheThreadCount) {
 // A value the option does not know: exit code 2, one line naming the option and the choices,
 // no image written.
 TEST(BuildQuality, CommandLineRefusesAnUnknownQualityInOneLine) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "prism_build_quality";
-  std::filesystem::create_directories(dir);
+  const std::filesystem::path dir = test::scratch_dir("build_quality");
   const std::filesystem::path image = dir / "bad.exr";
   std::filesystem::remove(image);
   const std::string command = std::string(PRISM_BINARY) + " render " + PRISM_SOURCE_DIR +

@@ -20,6 +20,7 @@
 
 #include "scene_io/gltf_limits.h"
 #include "scene_io/gltf_loader.h"
+#include "tests/scratch_dir.h"
 
 namespace prism {
 namespace {
@@ -44,7 +45,8 @@ const std::vector<float> kTriangle = {0, 0, 0, 1, 0, 0, 0, 1, 0};
 
 // A fresh folder per test, with `asset/` for the glTF and `outside/` next to it.
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "prism_gltf_hostile_test" / name;
+  const fs::path dir =
+      test::scratch_dir("hostile") / name;  // short: a URI over 64 bytes is quoted cut
   fs::remove_all(dir);
   fs::create_directories(dir / "asset");
   fs::create_directories(dir / "outside");

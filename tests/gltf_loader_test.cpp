@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/gltf_test_builder.h"
+#include "tests/scratch_dir.h"
 
 #ifndef PRISM_ASSIMP_GLTF2_DIR
 #define PRISM_ASSIMP_GLTF2_DIR "/usr/share/assimp/models/glTF2"
@@ -523,9 +524,7 @@ TEST(GltfLoaderHandMade, MaterialExtensions) {
 TEST(GltfLoaderHandMade, TexturesPerEncodingAndNormalisedTexcoords) {
   // A 2x1 RGB PNG would need an encoder; instead reuse the sample's PNG through a relative uri.
   Builder b;
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / "prism_gltf_loader_test";
-  std::filesystem::create_directories(dir);
+  const std::filesystem::path dir = test::scratch_dir("gltf_loader_test");
   std::filesystem::copy_file(kSamples + "/BoxTextured-glTF/CesiumLogoFlat.png",
                              dir / "logo with space.png",
                              std::filesystem::copy_options::overwrite_existing);
@@ -716,8 +715,7 @@ TEST(GltfLoaderHandMade, ValidationErrorsNameTheElement) {
 }
 
 TEST(GltfLoaderHandMade, MalformedJsonAndTruncatedGlb) {
-  const auto dir = std::filesystem::temp_directory_path() / "prism_gltf_loader_test";
-  std::filesystem::create_directories(dir);
+  const auto dir = test::scratch_dir("gltf_loader_test");
   const std::string json_path = (dir / "broken.gltf").string();
   std::ofstream(json_path) << "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [";
   expect_one_line_error(json_path, "broken.gltf", "JSON: ");

@@ -17,6 +17,7 @@
 #include "scene_io/gltf_loader.h"
 #include "scene_io/gltf_specular_glossiness.h"
 #include "tests/gltf_test_builder.h"
+#include "tests/scratch_dir.h"
 
 #ifndef PRISM_ASSIMP_GLTF2_DIR
 #define PRISM_ASSIMP_GLTF2_DIR "/usr/share/assimp/models/glTF2"
@@ -450,7 +451,7 @@ TEST(GltfDraco, TwoCylinderEngineMatchesTheUncompressedFile) {
 }
 
 TEST(GltfDraco, CorruptStreamIsAOneLineError) {
-  const fs::path dir = fs::temp_directory_path() / "prism_gltf_structure_test" / "draco";
+  const fs::path dir = test::scratch_dir("gltf_structure_test") / "draco";
   fs::remove_all(dir);
   fs::create_directories(dir);
   fs::copy_file(kSamples + "/draco/2CylinderEngine.gltf", dir / "2CylinderEngine.gltf");

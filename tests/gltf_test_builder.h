@@ -10,6 +10,7 @@
 
 #include <OpenImageIO/strutil.h>
 #include <nlohmann/json.hpp>
+#include "tests/scratch_dir.h"
 
 namespace prism::test {
 
@@ -75,8 +76,7 @@ class Builder {
           json::array({{{"byteLength", bin_.size()},
                         {"uri", "data:application/octet-stream;base64," + base64(bin_)}}});
     }
-    const auto dir = std::filesystem::temp_directory_path() / "prism_gltf_loader_test";
-    std::filesystem::create_directories(dir);
+    const auto dir = scratch_dir("gltf_loader_test");
     const std::string path = (dir / name).string();
     std::ofstream(path) << doc.dump(1);
     return path;

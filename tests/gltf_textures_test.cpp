@@ -9,6 +9,7 @@
 
 #include "scene_io/gltf_loader.h"
 #include "tests/gltf_test_builder.h"
+#include "tests/scratch_dir.h"
 
 namespace prism {
 namespace {
@@ -16,13 +17,9 @@ namespace {
 using test::Builder;
 using test::json;
 
-const std::filesystem::path kDir =
-    std::filesystem::temp_directory_path() / "prism_gltf_loader_test";
-
 // A 2 x 2 RGB PNG (8-bit) written with OpenImageIO, next to the Builder's files.
 std::string write_png(const std::string& name, const std::vector<unsigned char>& rgb) {
-  std::filesystem::create_directories(kDir);
-  const std::string path = (kDir / name).string();
+  const std::string path = (test::scratch_dir("gltf_loader_test") / name).string();
   auto out = OIIO::ImageOutput::create(path);
   EXPECT_TRUE(out && out->open(path, OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::UINT8)));
   EXPECT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb.data()));
