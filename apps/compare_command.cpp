@@ -27,9 +27,11 @@
 namespace prism {
 namespace {
 
-// The sample stream rendered references draw (RenderSettings::seed); the compared renders
-// keep seed 0, every render's.
-constexpr uint32_t kReferenceSeed = 1;
+// The sample stream a rendered reference draws (RenderSettings::seed): 1, or 2 when the
+// compared renders (seed 0 unless --seed) draw 1, so that it never shares their samples.
+uint32_t reference_seed(int compared_seed) {
+  return compared_seed == 1 ? 2 : 1;
+}
 
 namespace fs = std::filesystem;
 
@@ -122,6 +124,7 @@ RenderJob Comparison::job_for(const IntegratorInfo& integrator, const SphereOpti
     if (takes_parameter(integrator, name)) job.integrator_parameters[name] = value;
   job.spheres = spheres;
   job.film.spp = spp;
+  job.film.seed = static_cast<uint32_t>(o_.seed);
   if (target_error) {
     job.film.target_error = static_cast<float>(*target_error);
     job.film.min_spp = o_.min_spp;
@@ -237,7 +240,7 @@ CompareReport Comparison::run(const std::vector<const IntegratorInfo*>& integrat
     // Its own sample stream: with the renders' seed, the reference's first samples would be
     // the compared render's own (path's wholly, every integrator's pixel positions), and
     // their noise would drop out of the error measured against it.
-    job.film.seed = kReferenceSeed;
+    job.film.seed = reference_seed(o_.seed);
     const ParameterValues parameters(integrator->parameters, job.integrator_parameters);
     const ReferenceKey key = reference_key(o_.scene.scene_path, job, session_.film(job), parameters,
                                            camera, camera_index);
@@ -517,6 +520,12 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
                   "Samples per pixel of the rendered references (analytic spheres)")
       ->check(whole_number(1, 1 << 16))
       ->excludes(reference)
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed,
+                  "Sample streams of the compared renders: 0 is every render's by default; "
+                  "another draws independent noise (e.g. repeats for the spread of each "
+                  "error). A rendered reference draws a stream of its own")
+      ->check(whole_number(0, RenderSettings::kMaxSeed))
       ->capture_default_str();
   cmd->add_option("--cache-limit", o->cache_limit_gib,
                   "GiB the reference cache may hold; the least recently used references go first")

@@ -23,6 +23,10 @@ struct CompareOptions {
   // each integrator and sphere mode, capped at the largest `spp`; empty: none.
   std::vector<double> target_errors;
   int min_spp = RenderSettings{}.min_spp;
+  // The compared renders' sample streams (RenderSettings::seed): another seed gives another
+  // draw of their noise, for the spread of their errors; a rendered reference keeps a stream
+  // of its own.
+  int seed = 0;
   std::string reference_path;  // empty: render (or find in the cache) a reference
   // Whose render the reference is: an integrator's name (one reference for every row), or
   // "self" (each integrator against its own).
