@@ -112,6 +112,12 @@ void add_memory_limit_option(CLI::App* cmd, double* gib) {
       ->capture_default_str();
 }
 
+void add_seed_option(CLI::App* cmd, int* seed, const std::string& help) {
+  cmd->add_option("--seed", *seed, help)
+      ->check(whole_number(0, RenderSettings::kMaxSeed))
+      ->capture_default_str();
+}
+
 void add_scene_select_option(CLI::App* cmd, std::string* scene) {
   cmd->add_option("--scene", *scene,
                   "glTF scene to load, by name or index (default: the file's `scene`, else 0)");

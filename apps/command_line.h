@@ -76,6 +76,8 @@ void add_scene_select_option(CLI::App* cmd, std::string* scene);
 void add_allow_external_paths_flag(CLI::App* cmd, bool* allow);
 // Adds --memory-limit GIB (every command that reads a scene file offers it).
 void add_memory_limit_option(CLI::App* cmd, double* gib);
+// Adds --seed S (RenderSettings::seed), with what it selects in this command.
+void add_seed_option(CLI::App* cmd, int* seed, const std::string& help);
 
 // Adds the scene positional argument and --scene, --res, --camera, --threads,
 // --working-space, --background, --allow-external-paths and one flag per integrator

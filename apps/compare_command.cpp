@@ -521,12 +521,10 @@ CLI::App* add_compare_command(CLI::App& app, CompareOptions* o) {
       ->check(whole_number(1, 1 << 16))
       ->excludes(reference)
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed,
+  add_seed_option(cmd, &o->seed,
                   "Sample streams of the compared renders: 0 is every render's by default; "
                   "another draws independent noise (e.g. repeats for the spread of each "
-                  "error). A rendered reference draws a stream of its own")
-      ->check(whole_number(0, RenderSettings::kMaxSeed))
-      ->capture_default_str();
+                  "error). A rendered reference draws a stream of its own");
   cmd->add_option("--cache-limit", o->cache_limit_gib,
                   "GiB the reference cache may hold; the least recently used references go first")
       ->check(CLI::Range(0.0, 1e6))

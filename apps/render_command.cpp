@@ -357,12 +357,10 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "power of two)")
       ->check(whole_number(1, 1 << 16))
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed,
+  add_seed_option(cmd, &o->seed,
                   "Sample streams: 0 is the default render's; any other draws independent noise "
                   "with the same expected image, e.g. to estimate a render's error against "
-                  "another, or a reference that shares no samples with what it measures")
-      ->check(whole_number(0, RenderSettings::kMaxSeed))
-      ->capture_default_str();
+                  "another, or a reference that shares no samples with what it measures");
   cmd->add_option("--region", o->region,
                   "X0,Y0,X1,Y1: render only the pixels X0 <= x < X1, Y0 <= y < Y1 (from the top "
                   "left), bit-identical to the same pixels of the whole frame; an EXR keeps the "
