@@ -46,9 +46,14 @@ LoadedModule load_module(const char* file_name, const char* what, const char* bu
   const int flags = RTLD_NOW | (scope == SymbolScope::global ? RTLD_GLOBAL : RTLD_LOCAL);
   void* handle = ::dlopen(path.c_str(), flags);
   if (!handle) {
-    const char* why = ::dlerror();
+    const char* error = ::dlerror();
+    std::string why = error ? error : "unknown error";
+    // glibc names the file first ("PATH: cannot open shared object file: ..."), and the
+    // message names it already.
+    const std::string named = path.string() + ": ";
+    if (why.compare(0, named.size(), named) == 0) why.erase(0, named.size());
     return {nullptr, std::string("needs ") + what + ", whose module " + path.string() +
-                         " cannot be loaded: " + (why ? why : "unknown error")};
+                         " cannot be loaded: " + why};
   }
   using BuildFunction = const char* (*)();
   const auto build = reinterpret_cast<BuildFunction>(::dlsym(handle, build_symbol));
