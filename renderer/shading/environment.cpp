@@ -106,6 +106,9 @@ struct Environment::Map {
     *y = d.y;
     *z = sin_rotation * d.x + cos_rotation * d.z;
   }
+  size_t texel_at(size_t column, size_t row) const {
+    return row * static_cast<size_t>(width) + column;
+  }
   size_t texel_index(const Imath::V3f& d, int* column = nullptr, int* row = nullptr) const {
     double x, y, z;
     to_map(d, &x, &y, &z);
@@ -115,7 +118,7 @@ struct Environment::Map {
     const int r = std::clamp(static_cast<int>(t * height), 0, height - 1);
     if (column) *column = c;
     if (row) *row = r;
-    return static_cast<size_t>(r) * static_cast<size_t>(width) + static_cast<size_t>(c);
+    return texel_at(static_cast<size_t>(c), static_cast<size_t>(r));
   }
 };
 
@@ -237,7 +240,7 @@ bool Environment::sample(const Imath::V2f& u, EnvironmentSample* out,
   if (sin_theta > 0.0 && in_s > margin_s && in_s < 1.0 - margin_s && in_t > margin_t &&
       in_t < 1.0 - margin_t) {
     out->pdf = map_pdf(out->wi, static_cast<int>(column), static_cast<int>(row), density);
-    out->radiance = map_->texels[row * static_cast<size_t>(map_->width) + column];
+    out->radiance = map_->texels[map_->texel_at(column, row)];
   } else {
     out->radiance = radiance_and_pdf(out->wi, &out->pdf, density);
   }
