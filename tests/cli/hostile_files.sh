@@ -22,9 +22,9 @@ scene() {
  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]}
 GLTF
 }
-# Every hostile run below is capped at 1 GiB of address space: what the loader is refused
-# must be refused before it is allocated.
-CEILING=$((1 << 30))
+# Every hostile run below is capped at 1 GiB of address space (but under a sanitizer:
+# lib/common.bash): what the loader is refused must be refused before it is allocated.
+CEILING=$(address_space_limit $((1 << 30)))
 
 # confined PATTERN NAME URI: `prism info` (from $TMP/outside, where tinygltf used to retry)
 # refuses the scene with PATTERN, and strace saw no file opened or stat'ed outside the folder.
@@ -32,7 +32,7 @@ confined() {
   local pattern=$1 name=$2
   scene "$name" "$3"
   cd "$TMP/outside" || exit 1
-  RUN_PREFIX="strace -f -qq -o $TMP/trace -e trace=open,openat,stat,lstat,newfstatat,statx prlimit --as=$CEILING" \
+  RUN_PREFIX="$STRACE -f -qq -o $TMP/trace -e trace=open,openat,stat,lstat,newfstatat,statx $CEILING" \
     expect 1 "$A/$name: buffers\[0\]\.uri: $pattern" -- info "$A/$name"
   cd - >/dev/null || exit 1
   if grep -E 'outside/|"(\./)?secret\.bin"' "$TMP/trace" | grep -v execve >"$TMP/leaks"; [[ -s $TMP/leaks ]]; then
@@ -47,11 +47,11 @@ confined 'file "secret\.bin" not found' cwd.gltf 'secret.bin'
 confined '"\.\.%2Foutside%2Fsecret\.bin" points outside the asset.s folder' dotdot.gltf '..%2Foutside%2Fsecret.bin'
 # A symlink out: resolving it reads the link (readlink, lstat) but nothing outside is opened.
 scene link.gltf link.bin
-RUN_PREFIX="strace -f -qq -o $TMP/trace -e trace=open,openat" expect 1 'buffers\[0\]\.uri: "link\.bin" points outside' -- info "$A/link.gltf"
+RUN_PREFIX="$STRACE -f -qq -o $TMP/trace -e trace=open,openat" expect 1 'buffers\[0\]\.uri: "link\.bin" points outside' -- info "$A/link.gltf"
 grep -q 'secret' "$TMP/trace" && fail "link.gltf: opened $(grep secret "$TMP/trace" | head -1)"
 # And what is inside is opened by its exact canonical path, without following a final symlink.
 scene ok.gltf 'a%20b.bin'
-strace -f -qq -o "$TMP/trace" -e trace=openat "$PRISM" info "$A/ok.gltf" >/dev/null 2>&1 || fail "ok.gltf did not load"
+$STRACE -f -qq -o "$TMP/trace" -e trace=openat "$PRISM" info "$A/ok.gltf" >/dev/null 2>&1 || fail "ok.gltf did not load"
 grep -q "\"$(realpath "$A")/a b.bin\", O_RDONLY|O_NONBLOCK|O_NOFOLLOW" "$TMP/trace" ||
   fail "ok.gltf: the buffer was not opened by its canonical path with O_NOFOLLOW: $(grep 'a b' "$TMP/trace")"
 
@@ -64,10 +64,10 @@ grep -q "\"$(realpath "$A")/a b.bin\", O_RDONLY|O_NONBLOCK|O_NOFOLLOW" "$TMP/tra
   for i in $(seq 0 15); do printf '%s{"attributes": {"POSITION": 0}}' "$([[ $i -gt 0 ]] && echo ,)"; done
   printf ']}]}\n'
 } >"$A/bomb.gltf"
-RUN_PREFIX="prlimit --as=$CEILING" expect 1 "bomb.gltf: accessors\[0\]: needs 72.0 MiB, which takes the load past its memory budget of 256.0 MiB" -- info "$A/bomb.gltf" --memory-limit 0.25
+RUN_PREFIX="$CEILING" expect 1 "bomb.gltf: accessors\[0\]: needs 72.0 MiB, which takes the load past its memory budget of 256.0 MiB" -- info "$A/bomb.gltf" --memory-limit 0.25
 # With the default 8 GiB budget the 1 GiB ceiling is reached first: still one line naming what
 # was being allocated, never a bare std::bad_alloc.
-RUN_PREFIX="prlimit --as=$CEILING" expect 1 "bomb.gltf: (accessors\[0\]|meshes\[0\]\.primitives\[[0-9]+\]\.indices): out of memory \(std::bad_alloc\)" -- info "$A/bomb.gltf"
+RUN_PREFIX="$CEILING" expect 1 "bomb.gltf: (accessors\[0\]|meshes\[0\]\.primitives\[[0-9]+\]\.indices): out of memory \(std::bad_alloc\)" -- info "$A/bomb.gltf"
 for command in render info compare; do
   "$PRISM" "$command" --help | grep -q -- "--memory-limit" || fail "$command has no --memory-limit"
 done
@@ -82,7 +82,7 @@ open(sys.argv[1], 'wb').write(b'DDS ' + hdr + b'\x7f' * 4096)
 PY
 scene tex.gltf 'a%20b.bin'
 sed -i 's/"bufferViews"/"images": [{"uri": "volume.png", "mimeType": "image\/png"}], "textures": [{"source": 0}], "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],\n "bufferViews"/; s/"POSITION": 0}/"POSITION": 0}, "material": 0/' "$A/tex.gltf"
-RUN_PREFIX="prlimit --as=$CEILING" expect 1 "tex.gltf: images\[0\]: not a PNG or JPEG image \(it starts with 44 44 53 20" -- render "$A/tex.gltf" -o "$TMP/tex.exr"
+RUN_PREFIX="$CEILING" expect 1 "tex.gltf: images\[0\]: not a PNG or JPEG image \(it starts with 44 44 53 20" -- render "$A/tex.gltf" -o "$TMP/tex.exr"
 [[ -e $TMP/tex.exr ]] && fail "tex.gltf: an output was written"
 
 # GLB cut by 4 bytes with its header's length fixed.
@@ -96,7 +96,7 @@ j = json.dumps(doc).encode(); j += b' ' * (-len(j) % 4)
 body = struct.pack('<I4s', len(j), b'JSON') + j + struct.pack('<I4s', 36, b'BIN\0') + bytes(32)
 open(sys.argv[1], 'wb').write(struct.pack('<4sII', b'glTF', 2, 12 + len(body)) + body)
 PY
-RUN_PREFIX="prlimit --as=$CEILING" expect 1 "cut.glb: GLB chunk 1: length 36 at byte [0-9]+ runs 4 bytes past the end of the file" -- info "$A/cut.glb"
+RUN_PREFIX="$CEILING" expect 1 "cut.glb: GLB chunk 1: length 36 at byte [0-9]+ runs 4 bytes past the end of the file" -- info "$A/cut.glb"
 
 # Numbers: a node scale past float's range; a primitive mode past int.
 scene scale.gltf 'a%20b.bin'

@@ -79,7 +79,7 @@ fi
 
 # Without a launcher, no MPI: OpenMPI's singleton init would exec its daemon (orted), so the
 # only program a plain render runs is prism itself.
-strace -f -e trace=execve -o "$TMP/strace" "$PRISM" render "$SCENE" -o "$TMP/plain.exr" \
+$STRACE -f -e trace=execve -o "$TMP/strace" "$PRISM" render "$SCENE" -o "$TMP/plain.exr" \
   --res 64x48 --quiet || fail "plain render under strace"
 execs=$(grep -c 'execve(' "$TMP/strace")
 grep -q orted "$TMP/strace" && fail "a plain render started orted: $(grep orted "$TMP/strace")"
@@ -87,7 +87,7 @@ grep -q orted "$TMP/strace" && fail "a plain render started orted: $(grep orted 
 echo "ok: a plain render ran $execs program (no orted)"
 # Nor does it load libmpi: only the module links it, and only a launched process opens it.
 ldd "$PRISM" | grep -q libmpi && fail "prism links libmpi: $(ldd "$PRISM" | grep libmpi)"
-strace -f -e trace=openat -o "$TMP/opened" "$PRISM" render "$SCENE" -o "$TMP/plain.exr" \
+$STRACE -f -e trace=openat -o "$TMP/opened" "$PRISM" render "$SCENE" -o "$TMP/plain.exr" \
   --res 64x48 --quiet || fail "plain render under strace"
 grep -q 'libmpi\|libprism_mpi' "$TMP/opened" &&
   fail "a plain render opened MPI: $(grep 'libmpi\|libprism_mpi' "$TMP/opened" | head -2)"

@@ -18,7 +18,7 @@ ldd "$PRISM" | grep -q libdraco && fail "prism links Draco: $(ldd "$PRISM" | gre
 [[ $libs -lt 120 ]] || fail "prism links $libs shared libraries"
 
 # A textured render (PNG texture) opens no OpenImageIO library.
-strace -f -e trace=openat -o "$TMP/trace" "$PRISM" render "$BOX" --res 32x24 \
+$STRACE -f -e trace=openat -o "$TMP/trace" "$PRISM" render "$BOX" --res 32x24 \
   -o "$TMP/box.exr" --preview "$TMP/box.png" -q || fail "textured render failed"
 opened=$(grep -c 'OpenImageIO\|libprism_oiio' "$TMP/trace")
 echo "textured render: $(grep -c 'openat(' "$TMP/trace") files opened, $opened of OpenImageIO"
@@ -29,7 +29,7 @@ grep -q 'draco' "$TMP/trace" && fail "a render without Draco opened it: $(grep d
 # A Draco-compressed glTF loads the Draco module and renders the plain file's pixels.
 DRACO=/usr/share/assimp/models/glTF2/draco/2CylinderEngine.gltf
 PLAIN=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
-strace -f -e trace=openat -o "$TMP/trace3" "$PRISM" render "$DRACO" --res 32x24 \
+$STRACE -f -e trace=openat -o "$TMP/trace3" "$PRISM" render "$DRACO" --res 32x24 \
   -o "$TMP/draco.exr" -q || fail "Draco render failed"
 grep -q 'libprism_draco.so' "$TMP/trace3" || fail "a Draco render did not load the module"
 "$PRISM" render "$PLAIN" --res 32x24 -o "$TMP/plain.exr" -q || fail "plain render failed"
@@ -40,7 +40,7 @@ awk -v e="$draco_max" 'BEGIN { exit !(e < 0.01) }' ||
   fail "Draco render: RMSE $draco_max against the uncompressed file, expected < 0.01"
 
 # A PNG to compare: the module is loaded, and the PNG compares equal to itself.
-strace -f -e trace=openat -o "$TMP/trace2" "$PRISM" diff "$TMP/box.png" "$TMP/box.png" \
+$STRACE -f -e trace=openat -o "$TMP/trace2" "$PRISM" diff "$TMP/box.png" "$TMP/box.png" \
   --metric rmse >"$TMP/rmse" || fail "prism diff on PNGs failed"
 grep -q 'libprism_oiio.so' "$TMP/trace2" || fail "prism diff on a PNG did not load the module"
 [[ $(cat "$TMP/rmse") == 0 ]] || fail "a PNG against itself: RMSE $(cat "$TMP/rmse")"

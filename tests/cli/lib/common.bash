@@ -6,6 +6,17 @@ PRISM=$1
 SRC=$2
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
+# Under a sanitizer build (tests/CMakeLists.txt sets PRISM_SANITIZED): LeakSanitizer cannot
+# run under ptrace, so a prism run under $STRACE leaves leak checking off; and
+# AddressSanitizer reserves terabytes of address space for its shadow memory, so
+# address_space_limit BYTES gives no ceiling there (the release build's run applies it).
+if [[ -n ${PRISM_SANITIZED:-} ]]; then
+  STRACE="env ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 strace"
+  address_space_limit() { :; }
+else
+  STRACE=strace
+  address_space_limit() { echo "prlimit --as=$1"; }
+fi
 failures=0
 fail() {
   echo "FAIL: $*"
