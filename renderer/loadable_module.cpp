@@ -58,7 +58,8 @@ LoadedModule load_module(const char* file_name, const char* what, const char* bu
   using BuildFunction = const char* (*)();
   const auto build = reinterpret_cast<BuildFunction>(::dlsym(handle, build_symbol));
   void* entry = ::dlsym(handle, entry_symbol);
-  const std::string module = std::string("the ") + what + " module " + path.string();
+  // Every reason reads after the file or command that needed the module ("X: needs ...").
+  const std::string module = std::string("needs ") + what + ", whose module " + path.string();
   if (!build || !entry) return {nullptr, module + " is not Prism's"};
   if (this_build() != build())
     return {nullptr,

@@ -67,7 +67,11 @@ grep -q "\"$(realpath "$A")/a b.bin\", O_RDONLY|O_NONBLOCK|O_NOFOLLOW" "$TMP/tra
 RUN_PREFIX="$CEILING" expect 1 "bomb.gltf: accessors\[0\]: needs 72.0 MiB, which takes the load past its memory budget of 256.0 MiB" -- info "$A/bomb.gltf" --memory-limit 0.25
 # With the default 8 GiB budget the 1 GiB ceiling is reached first: still one line naming what
 # was being allocated, never a bare std::bad_alloc.
-RUN_PREFIX="$CEILING" expect 1 "bomb.gltf: (accessors\[0\]|meshes\[0\]\.primitives\[[0-9]+\]\.indices): out of memory \(std::bad_alloc\)" -- info "$A/bomb.gltf"
+if [[ -n $CEILING ]]; then
+  RUN_PREFIX="$CEILING" expect 1 "bomb.gltf: (accessors\[0\]|meshes\[0\]\.primitives\[[0-9]+\]\.indices): out of memory \(std::bad_alloc\)" -- info "$A/bomb.gltf"
+else
+  echo "skipped: the bomb under the 1 GiB ceiling (no ceiling under a sanitizer)"
+fi
 for command in render info compare; do
   "$PRISM" "$command" --help | grep -q -- "--memory-limit" || fail "$command has no --memory-limit"
 done

@@ -58,6 +58,12 @@ expect 2 "box.png: needs OpenImageIO, whose module [^ ]*libprism_oiio.so cannot 
 expect 1 "2CylinderEngine.gltf: meshes\[0\].primitives\[0\].extensions.KHR_draco_mesh_compression: needs Draco, whose module .*libprism_draco.so cannot be loaded" -- \
   render "$DRACO" --res 32x24 -o "$TMP/nodraco.exr"
 [[ -e $TMP/nodraco.exr ]] && fail "a Draco render without the module wrote a file"
+# A file under the module's name that is not Prism's module: refused in one line that reads
+# on from the file that needed it, nothing loaded from it.
+cp "$(ldconfig -p | awk '/libz\.so\.1 / {print $NF; exit}')" "$TMP/lib/prism/libprism_oiio.so"
+expect 2 "box.png: needs OpenImageIO, whose module [^ ]*libprism_oiio.so is not Prism's$" -- \
+  diff "$TMP/box.png" "$TMP/box.exr"
+rm -f "$TMP/lib/prism/libprism_oiio.so"
 "$PRISM" render "$PLAIN" --res 32x24 -o "$TMP/plain2.exr" -q || fail "an uncompressed render needed the Draco module"
 
 echo "$failures failed"
