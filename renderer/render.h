@@ -43,10 +43,12 @@ using ProgressCallback = std::function<void(int tiles_done, int tiles_total)>;
 // the image of their means.
 using PassCallback = std::function<void(int samples_done, const Image& image)>;
 
-// A pass of one sample each costs a sweep over every tile and every pixel's stored sums; at
-// a few tens of milliseconds per pass that was 6 % of a checkpointed render. Half a second
-// keeps a stop or a due checkpoint that close.
-inline constexpr double kDefaultPassSeconds = 0.5;
+// Each pass costs a sweep over every tile and every pixel's stored sums, and a tail where
+// threads wait for the pass's last tiles: about 10 ms of wall a pass on a 640 x 480 frame,
+// far more than its instructions. At one sample a pass that was 6 % of a checkpointed render,
+// at 0.5 s a pass 2.2 %, at 2 s 0.6 % (docs/batch-benchmarks.md). Two seconds still keep a
+// stop close: Slurm's --signal warns a minute ahead, Kubernetes grants 30 s.
+inline constexpr double kDefaultPassSeconds = 2.0;
 
 struct RenderCallbacks {
   ProgressCallback progress;
