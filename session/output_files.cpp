@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
@@ -40,6 +41,19 @@ void check_writable(const std::string& path, const char* field) {
   ::unlink(probe.c_str());
 }
 
+// Each file a render may write, with the extension it must have (none: any image format's)
+// and the field that names it in errors.
+struct NamedOutput {
+  const std::string* path;
+  const char* extension;
+  const char* field;
+};
+std::array<NamedOutput, 3> named_outputs(const OutputFiles& files) {
+  return {{{&files.image, files.exr_only ? ".exr" : nullptr, "output"},
+           {&files.preview, ".png", "preview"},
+           {&files.sample_counts, ".exr", "sample-count-image"}}};
+}
+
 // The folders a path needs can be made: the nearest of its ancestors that exists is a
 // writable directory.
 void check_creatable(const fs::path& parent, const std::string& path, const char* field) {
@@ -75,16 +89,9 @@ void check_path(const std::string& path, const char* extension, bool create_dire
 }  // namespace
 
 void check_output_files(const OutputFiles& files, const std::string& scene_path) {
-  struct Named {
-    const std::string* path;
-    const char* extension;
-    const char* field;
-  };
-  const Named outputs[] = {{&files.image, files.exr_only ? ".exr" : nullptr, "output"},
-                           {&files.preview, ".png", "preview"},
-                           {&files.sample_counts, ".exr", "sample-count-image"}};
+  const std::array<NamedOutput, 3> outputs = named_outputs(files);
   for (size_t i = 0; i < std::size(outputs); ++i) {
-    const Named& o = outputs[i];
+    const NamedOutput& o = outputs[i];
     if (o.path->empty()) continue;
     check_path(*o.path, o.extension, files.create_directories, o.field);
     if (same_file(*o.path, scene_path))
@@ -97,18 +104,14 @@ void check_output_files(const OutputFiles& files, const std::string& scene_path)
 
 void make_output_directories(const OutputFiles& files) {
   if (!files.create_directories) return;
-  const std::pair<const std::string*, const char*> outputs[] = {
-      {&files.image, "output"},
-      {&files.preview, "preview"},
-      {&files.sample_counts, "sample-count-image"}};
-  for (const auto& [path, field] : outputs) {
-    const fs::path parent = fs::path(*path).parent_path();
-    if (path->empty() || parent.empty()) continue;
+  for (const NamedOutput& o : named_outputs(files)) {
+    const fs::path parent = fs::path(*o.path).parent_path();
+    if (o.path->empty() || parent.empty()) continue;
     std::error_code error;
     fs::create_directories(parent, error);
     if (error)
-      throw RequestError(
-          field, *path + ": directory " + parent.string() + " cannot be made: " + error.message());
+      throw RequestError(o.field, *o.path + ": directory " + parent.string() +
+                                      " cannot be made: " + error.message());
   }
 }
 
