@@ -320,18 +320,36 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
     Prism and Cycles in turn, and the medians kept (a render of a few seconds on a shared
     machine varies by tens of per cent from one run to the next)."""
 
-    def cycles_cmd(exr, spp, seed):
+    adaptive = args.prism_target_error > 0
+
+    def cycles_cmd(exr, spp, seed, test=False):
         cmd = ["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                CYCLES_SCRIPT, "--", glb, exr, "--res", res, "--spp", str(spp), "--threads",
                str(args.threads), "--max-bounces", str(args.max_depth - 1), "--no-key-light",
                "--seed", seed] + extra
+        if test and adaptive:
+            cmd += ["--adaptive-threshold", str(args.cycles_adaptive_threshold),
+                    "--adaptive-min-samples", str(args.adaptive_min_spp)]
         return cmd + (["--environment", environment] if environment else [])
 
-    def prism_cmd(exr, spp):
+    def prism_cmd(exr, spp, test=False):
         cmd = [prism, "render", glb, "-o", exr, "--integrator", "path", "--spp", str(spp),
                "--max-depth", str(args.max_depth), "--res", res, "--threads",
                str(args.threads), "--verbose"]
+        if test and adaptive:
+            cmd += ["--target-error", str(args.prism_target_error), "--min-spp",
+                    str(args.adaptive_min_spp)]
+        elif not test and adaptive:
+            # An adaptive test render takes a different number of samples in each pixel, so
+            # its samples cannot be taken out of the reference as below: the reference is
+            # drawn from another seed instead, independent of the test as Cycles' is.
+            cmd += ["--seed", "7"]
         return cmd + (["--environment", environment] if environment else [])
+
+    def prism_mean_spp(text):
+        # "spp          256 max, 87.3 mean" from an adaptive render's --verbose.
+        line = next((l for l in text.splitlines() if " mean" in l and "max" in l), None)
+        return float(line.split("max,")[1].split()[0]) if line else None
 
     def cycles_seconds(text):
         return float(next(l.split()[1] for l in text.splitlines()
@@ -347,34 +365,45 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
     exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, args.reference_spp))
     run(cycles_cmd(exr, args.reference_spp, "7"), exr + ".log")
     references["cycles"] = read_rgba(exr)
-    exr = os.path.join(out, "ee_prism_%s_%d.exr" % (name, args.reference_spp))
+    exr = os.path.join(out, "ee_prism_%s_%d%s.exr" % (name, args.reference_spp,
+                                                    "_seed7" if adaptive else ""))
     run(prism_cmd(exr, args.reference_spp), exr + ".log")
     references["prism"] = read_rgba(exr)
 
     times = {"prism": [], "cycles": [], "prism_total": []}
     images = {}
+    suffix = "_adaptive" if adaptive else ""
+    mean_spp = None
     for _ in range(args.repeats):
-        exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, args.test_spp))
-        text, _ = run(cycles_cmd(exr, args.test_spp, "0"), exr + ".log")
+        exr = os.path.join(out, "ee_cycles_%s_%d%s.exr" % (name, args.test_spp, suffix))
+        text, _ = run(cycles_cmd(exr, args.test_spp, "0", test=True), exr + ".log")
         times["cycles"].append(cycles_seconds(text))
         images["cycles"] = read_rgba(exr)
-        exr = os.path.join(out, "ee_prism_%s_%d.exr" % (name, args.test_spp))
-        text, seconds = run(prism_cmd(exr, args.test_spp), exr + ".log")
+        exr = os.path.join(out, "ee_prism_%s_%d%s.exr" % (name, args.test_spp, suffix))
+        text, seconds = run(prism_cmd(exr, args.test_spp, test=True), exr + ".log")
         times["prism"].append(seconds)
         times["prism_total"].append(prism_total_seconds(text))
+        mean_spp = prism_mean_spp(text)
         images["prism"] = read_rgba(exr)
     row = {"res": res, "test_spp": args.test_spp, "reference_spp": args.reference_spp,
            "repeats": args.repeats}
+    if adaptive:
+        row.update({"prism_target_error": args.prism_target_error,
+                    "cycles_adaptive_threshold": args.cycles_adaptive_threshold,
+                    "adaptive_min_spp": args.adaptive_min_spp, "prism_mean_spp": mean_spp})
     # Prism's samples are a pure function of (pixel, sample): its reference's first test_spp
     # samples are the test render's own, and an error measured against it would leave their
     # noise out (by 1 - 2 N / M of the variance, 22 % at 256 against 2048). Each pixel is the
     # mean of its samples, so the mean of the reference's other M - N samples is
     # (M R - N T) / (M - N): a reference independent of the test, as Cycles' (another seed).
-    m, n = float(args.reference_spp), float(args.test_spp)
-    references["prism"] = references["prism"].copy()
-    references["prism"][..., :3] = (m * references["prism"][..., :3] -
-                                    n * images["prism"][..., :3]) / (m - n)
-    row["prism_reference_spp_independent"] = args.reference_spp - args.test_spp
+    if adaptive:
+        row["prism_reference_spp_independent"] = args.reference_spp
+    else:
+        m, n = float(args.reference_spp), float(args.test_spp)
+        references["prism"] = references["prism"].copy()
+        references["prism"][..., :3] = (m * references["prism"][..., :3] -
+                                        n * images["prism"][..., :3]) / (m - n)
+        row["prism_reference_spp_independent"] = args.reference_spp - args.test_spp
     for who in ("prism", "cycles"):
         row[who + "_rel_mse"] = rel_mse(images[who], references[who])
         row[who + "_seconds"] = statistics.median(times[who])
@@ -393,7 +422,7 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
            row["prism_seconds"], row["prism_total_seconds"], row["cycles_rel_mse"],
            row["cycles_seconds"], args.repeats, row["time_to_equal_error_prism_over_cycles"],
            row["time_to_equal_error_render_calls"]))
-    results[name + " equal error"] = row
+    results[name + " equal error" + (" adaptive" if adaptive else "")] = row
 
 
 def main():
@@ -418,6 +447,13 @@ def main():
     parser.add_argument("--repeats", type=int, default=5,
                         help="times each test render is timed (medians), Prism and Cycles "
                              "in turn")
+    parser.add_argument("--prism-target-error", type=float, default=0.0,
+                        help="with --equal-error: adaptive test renders, Prism with this "
+                             "--target-error and Cycles with --cycles-adaptive-threshold, "
+                             "--test-spp the most a pixel takes")
+    parser.add_argument("--cycles-adaptive-threshold", type=float, default=0.01)
+    parser.add_argument("--adaptive-min-spp", type=int, default=16,
+                        help="the samples every pixel takes in both adaptive test renders")
     parser.add_argument("--skip-blender", action="store_true",
                         help="reuse the Cycles renders already in --out")
     args = parser.parse_args()

@@ -4,6 +4,7 @@ traced for bench/cycles_path_compare.py.
     blender -b --factory-startup --python-exit-code 1 --python bench/peers/cycles_render.py \
         -- SCENE.glb|gltf OUT.exr --res WxH --spp N [--threads 2] [--seed 0] [--lambert]
         [--max-bounces B [--environment MAP.exr] [--environment-strength K] [--no-key-light]]
+        [--adaptive-threshold T [--adaptive-min-samples N]]
 
 --max-bounces B renders with path tracing instead (set_up_path_render): B bounces after
 the first hit, i.e. Prism's `path --max-depth B+1` (Cycles' max_bounces 0 is direct light
@@ -177,6 +178,12 @@ def main():
     parser.add_argument("--environment", default="",
                         help="with --max-bounces: an equirectangular map as the world")
     parser.add_argument("--environment-strength", type=float, default=1.0)
+    parser.add_argument("--adaptive-threshold", type=float, default=0.0,
+                        help="Cycles' adaptive sampling with this noise threshold, --spp the "
+                             "most a pixel takes (0: fixed samples)")
+    parser.add_argument("--adaptive-min-samples", type=int, default=0,
+                        help="with --adaptive-threshold: the samples every pixel takes first "
+                             "(0: Cycles' automatic choice)")
     parser.add_argument("--no-key-light", action="store_true",
                         help="do not add Prism's default key light to a scene without lights")
     args = parser.parse_args(argv)
@@ -222,6 +229,10 @@ def main():
     if args.max_bounces is not None:
         set_up_path_render(scene, args.max_bounces, args.environment,
                            args.environment_strength)
+    if args.adaptive_threshold > 0:
+        scene.cycles.use_adaptive_sampling = True
+        scene.cycles.adaptive_threshold = args.adaptive_threshold
+        scene.cycles.adaptive_min_samples = args.adaptive_min_samples
 
     start = time.perf_counter()
     bpy.ops.render.render(write_still=True)
