@@ -318,38 +318,38 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
     the time to equal error is proportional to relMSE * time; the ratio of the two is
     Prism time / Cycles time at equal error. The test renders are timed --repeats times,
     Prism and Cycles in turn, and the medians kept (a render of a few seconds on a shared
-    machine varies by tens of per cent from one run to the next)."""
+    machine varies by tens of per cent from one run to the next).
 
-    adaptive = args.prism_target_error > 0
+    With --prism-target-error each round also renders both adaptively (Prism's
+    --target-error, Cycles' noise threshold, at most --adaptive-max-spp samples a pixel),
+    in the same interleaved rounds as the fixed-sample renders, so that each renderer's
+    best mode can be set against the other's from one run."""
 
-    def cycles_cmd(exr, spp, seed, test=False):
+    modes = ["fixed"] + (["adaptive"] if args.prism_target_error > 0 else [])
+
+    def cycles_cmd(exr, spp, seed, mode="fixed"):
         cmd = ["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
                CYCLES_SCRIPT, "--", glb, exr, "--res", res, "--spp", str(spp), "--threads",
                str(args.threads), "--max-bounces", str(args.max_depth - 1), "--no-key-light",
                "--seed", seed] + extra
-        if test and adaptive:
+        if mode == "adaptive":
             cmd += ["--adaptive-threshold", str(args.cycles_adaptive_threshold),
                     "--adaptive-min-samples", str(args.adaptive_min_spp)]
         return cmd + (["--environment", environment] if environment else [])
 
-    def prism_cmd(exr, spp, test=False):
+    def prism_cmd(exr, spp, seed=None, mode="fixed"):
         cmd = [prism, "render", glb, "-o", exr, "--integrator", "path", "--spp", str(spp),
                "--max-depth", str(args.max_depth), "--res", res, "--threads",
                str(args.threads), "--verbose"]
-        if test and adaptive:
+        if mode == "adaptive":
             cmd += ["--target-error", str(args.prism_target_error), "--min-spp",
                     str(args.adaptive_min_spp)]
-        elif not test and adaptive:
-            # An adaptive test render takes a different number of samples in each pixel, so
-            # its samples cannot be taken out of the reference as below: the reference is
-            # drawn from another seed instead, independent of the test as Cycles' is.
-            cmd += ["--seed", "7"]
+        if seed is not None:
+            cmd += ["--seed", seed]
         return cmd + (["--environment", environment] if environment else [])
 
-    def prism_mean_spp(text):
-        # "spp          256 max, 87.3 mean" from an adaptive render's --verbose.
-        line = next((l for l in text.splitlines() if " mean" in l and "max" in l), None)
-        return float(line.split("max,")[1].split()[0]) if line else None
+    def test_spp(mode):
+        return args.adaptive_max_spp if mode == "adaptive" else args.test_spp
 
     def cycles_seconds(text):
         return float(next(l.split()[1] for l in text.splitlines()
@@ -361,68 +361,99 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
         line = next(l for l in text.splitlines() if l.startswith("render time"))
         return float(line.split("total ")[1].split(" s")[0])
 
+    def prism_mean_spp(text):
+        # "... path, 100x100, 1024 spp max, 129 mean, 25 rounds, ..." of an adaptive render.
+        line = next((l for l in text.splitlines() if " spp max, " in l), None)
+        return float(line.split(" spp max, ")[1].split()[0]) if line else None
+
+    # Prism's samples are a pure function of (pixel, sample): a reference of the same seed
+    # holds the test render's own samples, and an error measured against it would leave their
+    # noise out (by 1 - 2 N / M of the variance, 22 % at 256 against 2048). With fixed samples
+    # alone the reference's other M - N samples are taken, (M R - N T) / (M - N), since each
+    # pixel is the mean of its samples; an adaptive render's samples differ from pixel to
+    # pixel, so with it the reference is drawn from another seed, as Cycles' is.
+    independent_seed = len(modes) > 1
     references = {}
     exr = os.path.join(out, "ee_cycles_%s_%d.exr" % (name, args.reference_spp))
     run(cycles_cmd(exr, args.reference_spp, "7"), exr + ".log")
     references["cycles"] = read_rgba(exr)
     exr = os.path.join(out, "ee_prism_%s_%d%s.exr" % (name, args.reference_spp,
-                                                    "_seed7" if adaptive else ""))
-    run(prism_cmd(exr, args.reference_spp), exr + ".log")
+                                                    "_seed7" if independent_seed else ""))
+    run(prism_cmd(exr, args.reference_spp, "7" if independent_seed else None), exr + ".log")
     references["prism"] = read_rgba(exr)
 
-    times = {"prism": [], "cycles": [], "prism_total": []}
-    images = {}
-    suffix = "_adaptive" if adaptive else ""
-    mean_spp = None
+    times = {(who, mode): [] for who in ("prism", "cycles", "prism_total") for mode in modes}
+    images, mean_spp = {}, {}
     for _ in range(args.repeats):
-        exr = os.path.join(out, "ee_cycles_%s_%d%s.exr" % (name, args.test_spp, suffix))
-        text, _ = run(cycles_cmd(exr, args.test_spp, "0", test=True), exr + ".log")
-        times["cycles"].append(cycles_seconds(text))
-        images["cycles"] = read_rgba(exr)
-        exr = os.path.join(out, "ee_prism_%s_%d%s.exr" % (name, args.test_spp, suffix))
-        text, seconds = run(prism_cmd(exr, args.test_spp, test=True), exr + ".log")
-        times["prism"].append(seconds)
-        times["prism_total"].append(prism_total_seconds(text))
-        mean_spp = prism_mean_spp(text)
-        images["prism"] = read_rgba(exr)
-    row = {"res": res, "test_spp": args.test_spp, "reference_spp": args.reference_spp,
-           "repeats": args.repeats}
-    if adaptive:
-        row.update({"prism_target_error": args.prism_target_error,
-                    "cycles_adaptive_threshold": args.cycles_adaptive_threshold,
-                    "adaptive_min_spp": args.adaptive_min_spp, "prism_mean_spp": mean_spp})
-    # Prism's samples are a pure function of (pixel, sample): its reference's first test_spp
-    # samples are the test render's own, and an error measured against it would leave their
-    # noise out (by 1 - 2 N / M of the variance, 22 % at 256 against 2048). Each pixel is the
-    # mean of its samples, so the mean of the reference's other M - N samples is
-    # (M R - N T) / (M - N): a reference independent of the test, as Cycles' (another seed).
-    if adaptive:
-        row["prism_reference_spp_independent"] = args.reference_spp
-    else:
-        m, n = float(args.reference_spp), float(args.test_spp)
-        references["prism"] = references["prism"].copy()
-        references["prism"][..., :3] = (m * references["prism"][..., :3] -
-                                        n * images["prism"][..., :3]) / (m - n)
-        row["prism_reference_spp_independent"] = args.reference_spp - args.test_spp
-    for who in ("prism", "cycles"):
-        row[who + "_rel_mse"] = rel_mse(images[who], references[who])
-        row[who + "_seconds"] = statistics.median(times[who])
-        row[who + "_seconds_all"] = times[who]
-    row["prism_total_seconds"] = statistics.median(times["prism_total"])
-    row["prism_total_seconds_all"] = times["prism_total"]
-    row["time_to_equal_error_prism_over_cycles"] = (
-        row["prism_rel_mse"] * row["prism_seconds"]) / (row["cycles_rel_mse"] * row["cycles_seconds"])
-    row["time_to_equal_error_render_calls"] = (
-        row["prism_rel_mse"] * row["prism_total_seconds"]) / (
-            row["cycles_rel_mse"] * row["cycles_seconds"])
-    print("%s equal error at %s, %d spp against %d spp of each: Prism relMSE %.4g in %.2f s "
-          "(whole process; %.2f s load, BVH and render), Cycles relMSE %.4g in %.2f s (medians "
-          "of %d): Prism time / Cycles time = %.3f (whole process), %.3f (render calls)" %
-          (name, res, args.test_spp, args.reference_spp, row["prism_rel_mse"],
-           row["prism_seconds"], row["prism_total_seconds"], row["cycles_rel_mse"],
-           row["cycles_seconds"], args.repeats, row["time_to_equal_error_prism_over_cycles"],
-           row["time_to_equal_error_render_calls"]))
-    results[name + " equal error" + (" adaptive" if adaptive else "")] = row
+        for mode in modes:
+            suffix = "_adaptive" if mode == "adaptive" else ""
+            exr = os.path.join(out, "ee_cycles_%s_%d%s.exr" % (name, test_spp(mode), suffix))
+            text, _ = run(cycles_cmd(exr, test_spp(mode), "0", mode), exr + ".log")
+            times[("cycles", mode)].append(cycles_seconds(text))
+            images[("cycles", mode)] = read_rgba(exr)
+            exr = os.path.join(out, "ee_prism_%s_%d%s.exr" % (name, test_spp(mode), suffix))
+            text, seconds = run(prism_cmd(exr, test_spp(mode), mode=mode), exr + ".log")
+            times[("prism", mode)].append(seconds)
+            times[("prism_total", mode)].append(prism_total_seconds(text))
+            mean_spp[mode] = prism_mean_spp(text)
+            images[("prism", mode)] = read_rgba(exr)
+
+    products = {}
+    for mode in modes:
+        row = {"res": res, "test_spp": test_spp(mode), "reference_spp": args.reference_spp,
+               "repeats": args.repeats}
+        reference = references["prism"]
+        if independent_seed:
+            row["prism_reference"] = "seed 7, %d spp" % args.reference_spp
+        else:
+            m, n = float(args.reference_spp), float(args.test_spp)
+            reference = reference.copy()
+            reference[..., :3] = (m * reference[..., :3] -
+                                  n * images[("prism", mode)][..., :3]) / (m - n)
+            row["prism_reference"] = "the other %d samples of the same seed" % (
+                args.reference_spp - args.test_spp)
+        if mode == "adaptive":
+            row.update({"prism_target_error": args.prism_target_error,
+                        "cycles_adaptive_threshold": args.cycles_adaptive_threshold,
+                        "adaptive_min_spp": args.adaptive_min_spp,
+                        "prism_mean_spp": mean_spp[mode]})
+        row["prism_rel_mse"] = rel_mse(images[("prism", mode)], reference)
+        row["cycles_rel_mse"] = rel_mse(images[("cycles", mode)], references["cycles"])
+        for who in ("prism", "cycles", "prism_total"):
+            row[who + "_seconds"] = statistics.median(times[(who, mode)])
+            row[who + "_seconds_all"] = times[(who, mode)]
+        for who in ("prism", "cycles"):
+            products[(who, mode)] = row[who + "_rel_mse"] * row[who + "_seconds"]
+        products[("prism_total", mode)] = row["prism_rel_mse"] * row["prism_total_seconds"]
+        row["time_to_equal_error_prism_over_cycles"] = (
+            products[("prism", mode)] / products[("cycles", mode)])
+        row["time_to_equal_error_render_calls"] = (
+            products[("prism_total", mode)] / products[("cycles", mode)])
+        print("%s equal error at %s, %s, %d spp%s against %d spp of each: Prism relMSE %.4g in "
+              "%.2f s (whole process; %.2f s load, BVH and render)%s, Cycles relMSE %.4g in %.2f s "
+              "(medians of %d): Prism time / Cycles time = %.3f (whole process), %.3f (render "
+              "calls)" %
+              (name, res, mode, test_spp(mode), " at most" if mode == "adaptive" else "",
+               args.reference_spp, row["prism_rel_mse"], row["prism_seconds"],
+               row["prism_total_seconds"],
+               ", %.4g spp mean" % mean_spp[mode] if mode == "adaptive" else "",
+               row["cycles_rel_mse"], row["cycles_seconds"], args.repeats,
+               row["time_to_equal_error_prism_over_cycles"],
+               row["time_to_equal_error_render_calls"]))
+        results[name + " equal error" + (" adaptive" if mode == "adaptive" else "")] = row
+    if len(modes) > 1:
+        # Each renderer in whichever of its modes reaches the error sooner.
+        best = {who: min(modes, key=lambda m: products[(who, m)]) for who in ("prism", "cycles")}
+        row = {"prism_mode": best["prism"], "cycles_mode": best["cycles"],
+               "time_to_equal_error_prism_over_cycles":
+                   products[("prism", best["prism"])] / products[("cycles", best["cycles"])],
+               "time_to_equal_error_render_calls":
+                   products[("prism_total", best["prism"])] / products[("cycles", best["cycles"])]}
+        print("%s equal error, each at its best (Prism %s, Cycles %s): Prism time / Cycles time "
+              "= %.3f (whole process), %.3f (render calls)" %
+              (name, row["prism_mode"], row["cycles_mode"],
+               row["time_to_equal_error_prism_over_cycles"], row["time_to_equal_error_render_calls"]))
+        results[name + " equal error best"] = row
 
 
 def main():
@@ -448,10 +479,11 @@ def main():
                         help="times each test render is timed (medians), Prism and Cycles "
                              "in turn")
     parser.add_argument("--prism-target-error", type=float, default=0.0,
-                        help="with --equal-error: adaptive test renders, Prism with this "
-                             "--target-error and Cycles with --cycles-adaptive-threshold, "
-                             "--test-spp the most a pixel takes")
+                        help="with --equal-error: adaptive test renders too, Prism with this "
+                             "--target-error and Cycles with --cycles-adaptive-threshold")
     parser.add_argument("--cycles-adaptive-threshold", type=float, default=0.01)
+    parser.add_argument("--adaptive-max-spp", type=int, default=1024,
+                        help="the most samples a pixel takes in the adaptive test renders")
     parser.add_argument("--adaptive-min-spp", type=int, default=16,
                         help="the samples every pixel takes in both adaptive test renders")
     parser.add_argument("--skip-blender", action="store_true",
