@@ -186,7 +186,7 @@ struct PathTracer {
           float weight = 1.0f;
           if (bsdf_pdf >= 0.0f && hit.emitter != kNoEmitter) {
             const float light_pdf =
-                scene.emitter_sampler().pmf_area(hit.emitter) *
+                scene.emitter_sampler().pmf_area(hit.emitter, from) *
                 scene.area_lights()[hit.emitter].pdf_towards(from, hit.position);
             weight = params.bsdf_weight(bsdf_pdf, light_pdf);
           }
@@ -263,7 +263,7 @@ struct PathTracer {
                    RayCounters* counters) const {
     const RenderScene& scene = context.scene;
     ChosenEmitter chosen;
-    if (!scene.emitter_sampler().sample(u_choice, &chosen)) return V3f(0.0f);
+    if (!scene.emitter_sampler().sample(u_choice, reference, &chosen)) return V3f(0.0f);
     LightSample arrival;
     arrival.wi = arrival.radiance = V3f(0.0f);
     bool delta = false;
@@ -274,7 +274,10 @@ struct PathTracer {
         break;
       case EmitterKind::area:
         if constexpr (HasEmission) {
-          if (!scene.area_lights()[chosen.index].sample(reference, u, &arrival)) return V3f(0.0f);
+          const AreaLight& light = scene.area_lights()[chosen.index];
+          if (!(chosen.has_view ? light.sample(reference, chosen.view, u, &arrival)
+                                : light.sample(reference, u, &arrival)))
+            return V3f(0.0f);
           arrival.distance *= kShadowRayEnd;
           break;
         } else {

@@ -33,6 +33,11 @@ inline float fmin_inline(A a, B b) {
   return (a <= b || b != b) ? a : b;
 }
 
+// Rec. 709 luminance, never negative: what weighs one colour against another in a choice.
+inline float luminance(const V3f& c) {
+  return fmax_inline(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
+}
+
 inline bool is_finite(const V3f& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

@@ -258,14 +258,16 @@ TEST(EmitterSampler, ChoosesEveryKindInProportionToPower) {
   std::vector<double> drawn(power.size(), 0.0);
   for (int i = 0; i < kDraws; ++i) {
     ChosenEmitter c;
-    ASSERT_TRUE(sampler.sample((i + 0.5f) / kDraws, &c));
+    ASSERT_TRUE(sampler.sample((i + 0.5f) / kDraws, V3f(0.0f, 0.0f, 1.0f), &c));
     const size_t slot = c.kind == EmitterKind::punctual ? 0
                         : c.kind == EmitterKind::area   ? 1 + c.index
                                                         : power.size() - 1;
     drawn[slot] += 1.0;
   }
-  const float pmfs[] = {0.0f, sampler.pmf_area(0), sampler.pmf_area(1), sampler.pmf_area(2),
-                        sampler.pmf_environment()};
+  const V3f at(0.0f, 0.0f, 1.0f);
+  EXPECT_FALSE(sampler.splits_near());  // a sphere among the area lights
+  const float pmfs[] = {0.0f, sampler.pmf_area(0, at), sampler.pmf_area(1, at),
+                        sampler.pmf_area(2, at), sampler.pmf_environment()};
   for (size_t i = 0; i < power.size(); ++i) {
     std::printf("light %zu: power share %.5f, drawn %.5f, pmf %.5f\n", i, power[i] / total,
                 drawn[i] / kDraws, i == 0 ? power[0] / total : pmfs[i]);
@@ -277,6 +279,60 @@ TEST(EmitterSampler, ChoosesEveryKindInProportionToPower) {
   // A black environment is never chosen.
   const EmitterSampler dark(punctual, area, Environment(), radius);
   EXPECT_EQ(dark.pmf_environment(), 0.0f);
+}
+
+// A panel of two triangles (a unit square split along its diagonal) is few enough lights for
+// the choice to be split near each point: from a point close beside one half that half is
+// chosen more often, in exactly the proportion pmf_area reports, and the two probabilities add
+// up to the area lights' share whatever the point.
+TEST(EmitterSampler, SplitsAFewTrianglesBySolidAngleNearThePoint) {
+  const Material white = emitting(1.0f);
+  std::vector<AreaLight> area;
+  area.emplace_back(triangle(V3f(0.0f), V3f(1.0f, 0.0f, 0.0f), V3f(1.0f, 1.0f, 0.0f)), white);
+  area.emplace_back(triangle(V3f(0.0f), V3f(1.0f, 1.0f, 0.0f), V3f(0.0f, 1.0f, 0.0f)), white);
+  std::vector<LightSource> punctual;
+  Light point;
+  point.intensity = 1.0f;
+  punctual.emplace_back(point, ColourPipeline(WorkingSpace::linear_rec709));
+  const EmitterSampler sampler(punctual, area, Environment(), 2.0f);
+  ASSERT_TRUE(sampler.splits_near());
+  // The area lights' share of the choice is by power, as without the split.
+  const double panel = area[0].power().x + area[1].power().x;
+  const double area_share = panel / (panel + punctual[0].power(2.0f).x);
+  // Beside the first half, a tenth of the square's side below it: it subtends far more.
+  const V3f beside(0.9f, 0.1f, -0.1f);
+  const float p0 = sampler.pmf_area(0, beside), p1 = sampler.pmf_area(1, beside);
+  std::printf("beside the first half: pmf %.5f and %.5f, sum %.6f (share %.6f)\n", p0, p1, p0 + p1,
+              area_share);
+  EXPECT_GT(p0, 3.0f * p1);
+  EXPECT_NEAR(p0 + p1, area_share, 1e-6);
+  // Above the centre both halves subtend the same angle.
+  const V3f above(0.5f, 0.5f, -0.5f);
+  EXPECT_NEAR(sampler.pmf_area(0, above), sampler.pmf_area(1, above), 1e-6);
+  EXPECT_NEAR(sampler.pmf_area(0, above) + sampler.pmf_area(1, above), area_share, 1e-6);
+
+  constexpr int kDraws = 1 << 18;
+  int drawn[2] = {0, 0};
+  for (int i = 0; i < kDraws; ++i) {
+    ChosenEmitter c;
+    ASSERT_TRUE(sampler.sample((i + 0.5f) / kDraws, beside, &c));
+    if (c.kind != EmitterKind::area) continue;
+    ASSERT_LT(c.index, 2u);
+    ++drawn[c.index];
+    EXPECT_TRUE(c.has_view);
+    EXPECT_FLOAT_EQ(c.pmf, c.index == 0 ? p0 : p1);
+  }
+  std::printf("drawn %.5f and %.5f of the draws\n", double(drawn[0]) / kDraws,
+              double(drawn[1]) / kDraws);
+  EXPECT_NEAR(double(drawn[0]) / kDraws, p0, 4.0 / kDraws);
+  EXPECT_NEAR(double(drawn[1]) / kDraws, p1, 4.0 / kDraws);
+  // The chosen half's sample, from the view the choice formed, is the one of its own.
+  LightSample with_view, without;
+  const Imath::V2f u(0.3f, 0.7f);
+  ASSERT_TRUE(area[0].sample(beside, area[0].view_from(beside), u, &with_view));
+  ASSERT_TRUE(area[0].sample(beside, u, &without));
+  EXPECT_EQ(with_view.wi, without.wi);
+  EXPECT_EQ(with_view.pdf, without.pdf);
 }
 
 }  // namespace

@@ -148,9 +148,12 @@ inline PixelSample2D sample_pair(uint64_t pixel_index, uint32_t sample_index,
           scrambled_fraction(sobol_dim1_reversed(index), scramble_seed(seeds, true))};
 }
 
-// One dimension alone: the same value as its half of sample_pair.
-inline float sample_dimension_reversed(uint64_t pixel_index, uint32_t sample_index,
-                                       uint32_t reversed_index, uint32_t dimension) {
+// One dimension alone: the same value as its half of sample_pair. Always inlined: a call
+// costs more than its body, and GCC stops inlining it where a path tracer's loop is large.
+[[gnu::always_inline]] inline float sample_dimension_reversed(uint64_t pixel_index,
+                                                              uint32_t sample_index,
+                                                              uint32_t reversed_index,
+                                                              uint32_t dimension) {
   const uint32_t pair = dimension >> 1;
   const bool second = (dimension & 1u) != 0;
   const uint64_t seeds = pair_seeds(pixel_index, pair);

@@ -57,13 +57,17 @@ bool ray_triangle(const V3f& point, const V3f& wi, const V3f* c, float* t, float
 }  // namespace
 
 AreaLight::AreaLight(const EmissivePrimitive& primitive, const Material& material)
-    : primitive_(primitive), material_(&material), factor_(material.emissive) {
+    : primitive_(primitive),
+      material_(&material),
+      factor_(material.emissive),
+      brightness_(luminance(factor_)) {
   if (primitive_.shape == EmissivePrimitive::Shape::triangle) {
     const V3f n = cross(primitive_.corners[1] - primitive_.corners[0],
                         primitive_.corners[2] - primitive_.corners[0]);
     const float len = n.length();
     area_ = 0.5f * len;
     normal_ = len > 0.0f ? n / len : V3f(0.0f, 0.0f, 1.0f);
+    centroid_ = (primitive_.corners[0] + primitive_.corners[1] + primitive_.corners[2]) / 3.0f;
     for (int i = 0; i < 3; ++i)
       longest_edge2_ = std::max(
           longest_edge2_, (primitive_.corners[(i + 1) % 3] - primitive_.corners[i]).length2());
@@ -89,13 +93,35 @@ V3f AreaLight::radiance_at(float b1, float b2) const {
   return emitted_radiance(*material_, hit);
 }
 
+TriangleView AreaLight::view_from(const V3f& point) const {
+  TriangleView view;
+  if (primitive_.shape == EmissivePrimitive::Shape::triangle)
+    view.solid_angle =
+        spherical_sampling_area(point, primitive_.corners, normal_, longest_edge2_, &view.seen);
+  return view;
+}
+
+float AreaLight::choice_weight(const V3f& point, const TriangleView& view) const {
+  if (view.solid_angle > 0.0) return brightness_ * static_cast<float>(view.solid_angle);
+  const V3f offset = centroid_ - point;
+  const float d2 = offset.length2();
+  if (!(d2 > 0.0f)) return 0.0f;
+  const float projected = area_ * std::fabs(dot(normal_, offset)) / (d2 * std::sqrt(d2));
+  return brightness_ * std::min(projected, 2.0f * kPi);
+}
+
 bool AreaLight::sample(const V3f& point, const Imath::V2f& u, LightSample* out) const {
+  return sample(point, view_from(point), u, out);
+}
+
+bool AreaLight::sample(const V3f& point, const TriangleView& view, const Imath::V2f& u,
+                       LightSample* out) const {
   const V3f* c = primitive_.corners;
   V3f on_light;
   float b1 = 0.0f, b2 = 0.0f;
   if (primitive_.shape == EmissivePrimitive::Shape::triangle) {
-    SphericalTriangle seen;
-    const double solid_angle = spherical_sampling_area(point, c, normal_, longest_edge2_, &seen);
+    const SphericalTriangle& seen = view.seen;
+    const double solid_angle = view.solid_angle;
     if (solid_angle > 0.0) {
       const Imath::V3d direction = sample_spherical_triangle(seen, solid_angle, u.x, u.y);
       const V3f wi(static_cast<float>(direction.x), static_cast<float>(direction.y),

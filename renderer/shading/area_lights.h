@@ -18,10 +18,20 @@
 #include <Imath/ImathVec.h>
 
 #include "renderer/geometry/embree_scene.h"
+#include "renderer/sampling/spherical_triangle.h"
 #include "renderer/shading/lights.h"
 #include "renderer/shading/material.h"
 
 namespace prism {
+
+// A triangle light as seen from one point: the spherical triangle and the solid angle it is
+// sampled within, or a solid angle of 0 where it is sampled by area. Formed once per shading
+// point, it serves both the choice among a few lights (EmitterSampler) and the chosen one's
+// sample, which would otherwise build the same spherical triangle twice.
+struct TriangleView {
+  SphericalTriangle seen;
+  double solid_angle = 0.0;
+};
 
 class AreaLight {
  public:
@@ -33,6 +43,16 @@ class AreaLight {
   // distance, the radiance the point leaves towards `point` with and the density per unit solid
   // angle. False when nothing can arrive (`point` on the light's plane, a zero density).
   bool sample(const Imath::V3f& point, const Imath::V2f& u, LightSample* out) const;
+  // The same for a triangle, given view_from(point).
+  bool sample(const Imath::V3f& point, const TriangleView& view, const Imath::V2f& u,
+              LightSample* out) const;
+  // A triangle as seen from `point` (spheres: a view of solid angle 0, unused).
+  TriangleView view_from(const Imath::V3f& point) const;
+  // Roughly the light a triangle brings to `point`: the luminance of its emission times the
+  // solid angle it subtends there (A |cos| / d^2 at its centroid where it is sampled by area,
+  // at most 2 pi). What the choice among a few lights is weighed by; it need not be exact,
+  // only computed the same way wherever the choice's probability is.
+  float choice_weight(const Imath::V3f& point, const TriangleView& view) const;
   // The density sample() gives direction `wi` (unit) from `point`; 0 when the ray misses.
   float pdf(const Imath::V3f& point, const Imath::V3f& wi) const;
   // The same for a ray from `point` known to reach the light at `on_light` (its hit): no
@@ -55,7 +75,9 @@ class AreaLight {
   EmissivePrimitive primitive_;
   const Material* material_;
   Imath::V3f factor_;
+  float brightness_ = 0.0f;  // the factor's luminance
   Imath::V3f normal_;  // triangle: unit, of the counter-clockwise face
+  Imath::V3f centroid_{0.0f};  // triangle
   float area_ = 0.0f;
   float longest_edge2_ = 0.0f;  // triangle: its longest edge, squared
 };

@@ -632,9 +632,6 @@ class Bsdf {
   static Imath::V3f clamp_non_negative(const Imath::V3f& c) {
     return Imath::V3f(fmax_inline(0.0f, c.x), fmax_inline(0.0f, c.y), fmax_inline(0.0f, c.z));
   }
-  static float luminance(const Imath::V3f& c) {
-    return fmax_inline(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
-  }
 
   Imath::V3f normal_{0.0f, 0.0f, 1.0f};
   BsdfLobes lobes_;

@@ -43,6 +43,9 @@ class LightSampler {
   }
   // The probability sample() chooses light `index`.
   float pmf(uint32_t index) const { return index < pmf_.size() ? pmf_[index] : 0.0f; }
+  // The cumulative share of lights [0, index): sample() chooses from `first` to `last - 1`
+  // exactly when cdf_below(first) <= u < cdf_below(last).
+  double cdf_below(uint32_t index) const { return index == 0 ? 0.0 : cdf_[index - 1]; }
 
  private:
   std::vector<double> cdf_;  // cdf_[i] = power of lights [0, i] / total; cdf_.back() = 1
