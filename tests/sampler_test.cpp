@@ -131,7 +131,25 @@ TEST(Sampler, ReverseBitsMovesBitIToBit31MinusI) {
     const uint32_t x = static_cast<uint32_t>(mix64(state++));
     ASSERT_EQ(reverse_bits32(x), reference(x)) << x;
     ASSERT_EQ(reverse_bits32(reverse_bits32(x)), x) << x;
+    // The 64-bit form: both halves reversed and swapped, what a pair's outputs rely on.
+    const uint32_t y = static_cast<uint32_t>(mix64(~state));
+    const uint64_t both = reverse_bits64(static_cast<uint64_t>(x) << 32 | y);
+    ASSERT_EQ(static_cast<uint32_t>(both), reference(x)) << x;
+    ASSERT_EQ(static_cast<uint32_t>(both >> 32), reference(y)) << y;
   }
+}
+
+// A pair drawn together (one hash, one shuffle, one 64-bit reversal) is exactly its two
+// dimensions drawn alone, for pixels, samples and pairs far apart.
+TEST(SamplerDimensions, APairIsItsTwoDimensions) {
+  for (uint64_t pixel : {uint64_t{0}, uint64_t{41}, uint64_t{0xfedcba9876ULL}})
+    for (uint32_t k : {0u, 1u, 2u, 255u, 4096u, 0xfffffffu})
+      for (uint32_t pair = 0; pair < 70; ++pair) {
+        const PixelSample2D p = sample_pair(pixel, k, reverse_bits32(k), pair);
+        ASSERT_EQ(p.x, sample_dimension(pixel, k, 2 * pair)) << pixel << " " << k << " " << pair;
+        ASSERT_EQ(p.y, sample_dimension(pixel, k, 2 * pair + 1))
+            << pixel << " " << k << " " << pair;
+      }
 }
 
 // Seeds: seed 0's key is the pixel index itself (images from before seeds are unchanged);

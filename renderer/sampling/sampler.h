@@ -35,6 +35,15 @@ inline uint32_t reverse_bits32(uint32_t x) {
   return ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
 }
 
+// Reverses the bits of each 32-bit half of x, the halves swapped: reverse_bits32 of two
+// values at the cost of one, for a pair of dimensions' two outputs.
+inline uint64_t reverse_bits64(uint64_t x) {
+  x = __builtin_bswap64(x);
+  x = ((x >> 4) & 0x0f0f0f0f0f0f0f0fULL) | ((x & 0x0f0f0f0f0f0f0f0fULL) << 4);
+  x = ((x >> 2) & 0x3333333333333333ULL) | ((x & 0x3333333333333333ULL) << 2);
+  return ((x >> 1) & 0x5555555555555555ULL) | ((x & 0x5555555555555555ULL) << 1);
+}
+
 // Sobol dimension 0: the generator matrix is the identity, i.e. the base-2 radical
 // inverse (van der Corput). Returned as a 0.32 fixed-point fraction.
 inline uint32_t sobol_dim0(uint32_t index) {
@@ -138,14 +147,19 @@ inline uint32_t pair_sample_index(uint32_t sample_index, uint32_t reversed_index
   return reverse_bits32(owen_scramble_reversed(reversed_index, shuffle_seed(seeds)));
 }
 
-// Both dimensions of pair `pair`: one seed hash and one shuffle for the two.
+// Both dimensions of pair `pair`: one seed hash, one shuffle and one 64-bit reversal for the
+// two, the same values as two scrambled_fraction calls.
 inline PixelSample2D sample_pair(uint64_t pixel_index, uint32_t sample_index,
                                  uint32_t reversed_index, uint32_t pair) {
   const uint64_t seeds = pair_seeds(pixel_index, pair);
   const uint32_t index = pair_sample_index(sample_index, reversed_index, pair, seeds);
-  // Sobol dimension 0 reversed is the index itself.
-  return {scrambled_fraction(index, scramble_seed(seeds, false)),
-          scrambled_fraction(sobol_dim1_reversed(index), scramble_seed(seeds, true))};
+  // Sobol dimension 0 reversed is the index itself. The first dimension goes in the high
+  // half, so that after the reversal swaps the halves it is in the low half.
+  const uint64_t both = reverse_bits64(
+      static_cast<uint64_t>(owen_scramble_reversed(index, scramble_seed(seeds, false))) << 32 |
+      owen_scramble_reversed(sobol_dim1_reversed(index), scramble_seed(seeds, true)));
+  return {fraction_to_float(static_cast<uint32_t>(both)),
+          fraction_to_float(static_cast<uint32_t>(both >> 32))};
 }
 
 // One dimension alone: the same value as its half of sample_pair. Always inlined: a call
@@ -169,6 +183,17 @@ inline float sample_dimension(uint64_t pixel_index, uint32_t sample_index, uint3
                                    dimension);
 }
 
+// Both dimensions of pair `pair` as independent uniforms, not stratified: one splitmix64 step
+// of a stream seeded by (pixel, pair), at the sample's position. A sixth of the cost of
+// sample_pair, for dimensions whose stratification no longer shows in the image (a path's
+// later bounces, docs/sampling.md).
+inline PixelSample2D independent_pair(uint64_t pixel_index, uint32_t sample_index, uint32_t pair) {
+  const uint64_t bits = mix64(pair_seeds(pixel_index, pair) +
+                              (static_cast<uint64_t>(sample_index) + 1) * 0x9e3779b97f4a7c15ULL);
+  return {fraction_to_float(static_cast<uint32_t>(bits >> 32)),
+          fraction_to_float(static_cast<uint32_t>(bits))};
+}
+
 // The key a pixel's samples are scrambled and shuffled by, in place of its index: the index
 // itself for seed 0 (so every image rendered before seeds existed is unchanged), else the
 // index and the seed hashed together, so that another seed draws scrambles independent of
@@ -187,25 +212,34 @@ inline PixelSample2D sobol_owen_pixel_sample(uint64_t pixel_index, uint32_t samp
 
 // One sample of one pixel, handing out its dimensions in order: what an integrator draws
 // its random numbers from. Cheap to copy; holds no state but the next dimension.
+//
+// Dimensions below `stratified_end` are the padded Sobol pairs above; those from it on are
+// independent_pair's uniforms, for an integrator that knows where stratification stops paying
+// (both kinds are uniform, so either keeps every estimate unbiased).
 class PixelSampler {
  public:
   // Dimensions 0 and 1 are the pixel position (the tile loop's), so an integrator's first
   // request gets dimension 2.
   static constexpr uint32_t kFirstIntegratorDimension = 2;
+  static constexpr uint32_t kAllStratified = ~0u;
 
   PixelSampler(uint64_t pixel_index, uint32_t sample_index,
-               uint32_t first_dimension = kFirstIntegratorDimension)
+               uint32_t first_dimension = kFirstIntegratorDimension,
+               uint32_t stratified_end = kAllStratified)
       : pixel_(pixel_index),
         sample_(sample_index),
         reversed_sample_(reverse_bits32(sample_index)),
-        dimension_(first_dimension) {}
+        dimension_(first_dimension),
+        stratified_end_(stratified_end) {}
 
   float get1d() { return dimension_value(dimension_++); }
   // Two dimensions of one pair when the next dimension starts a pair (stratified together);
   // otherwise the odd one is used alone and the pair after it is taken.
   PixelSample2D get2d() {
     if (dimension_ & 1u) ++dimension_;
-    const PixelSample2D p = sample_pair(pixel_, sample_, reversed_sample_, dimension_ >> 1);
+    const PixelSample2D p = dimension_ < stratified_end_
+                                ? sample_pair(pixel_, sample_, reversed_sample_, dimension_ >> 1)
+                                : independent_pair(pixel_, sample_, dimension_ >> 1);
     dimension_ += 2;
     return p;
   }
@@ -213,10 +247,16 @@ class PixelSampler {
   // Dimension `dimension` alone, without moving on: for a value an integrator needs only on
   // some paths (a lobe choice, a roulette), drawn where it is needed from the dimension it
   // would have had in order, so skipping it changes no other value.
-  float get1d_at(uint32_t dimension) const { return dimension_value(dimension); }
+  [[gnu::always_inline]] float get1d_at(uint32_t dimension) const {
+    return dimension_value(dimension);
+  }
 
  private:
-  float dimension_value(uint32_t dimension) const {
+  [[gnu::always_inline]] float dimension_value(uint32_t dimension) const {
+    if (dimension >= stratified_end_) {
+      const PixelSample2D p = independent_pair(pixel_, sample_, dimension >> 1);
+      return dimension & 1u ? p.y : p.x;
+    }
     return sample_dimension_reversed(pixel_, sample_, reversed_sample_, dimension);
   }
 
@@ -224,6 +264,7 @@ class PixelSampler {
   uint32_t sample_;
   uint32_t reversed_sample_;
   uint32_t dimension_;
+  uint32_t stratified_end_;
 };
 
 }  // namespace prism
