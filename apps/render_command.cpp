@@ -88,6 +88,7 @@ RenderRequest render_request(const RenderOptions& o) {
   job.film.target_error = static_cast<float>(o.target_error);
   job.film.time_limit_seconds = o.time_limit;
   job.film.min_spp = o.min_spp;
+  job.film.error_goal = parse_choice<ErrorGoal>(o.error_goal, "--error-goal");
   job.film.seed = static_cast<uint32_t>(o.seed);
   if ((o.min_spp & (o.min_spp - 1)) != 0)
     throw UsageError("--min-spp " + std::to_string(o.min_spp) + ": must be a power of two");
@@ -348,6 +349,12 @@ CLI::App* add_render_command(CLI::App& app, RenderOptions* o) {
                   "neighbourhood is below this (about the RMS of (a-b)/sqrt(b^2+0.01)); --spp "
                   "is then the most a pixel takes (docs/sampling.md)")
       ->check(kPositiveFinite);
+  cmd->add_option("--error-goal", o->error_goal,
+                  "What --target-error bounds: " + enum_choices<ErrorGoal>(" | ") +
+                      "; pixel: every pixel's relative error (as Cycles' noise threshold); "
+                      "image: the image's (the root of its relMSE), samples going where they "
+                      "lower it most (docs/sampling.md)")
+      ->capture_default_str();
   cmd->add_option("--time-limit", o->time_limit,
                   "Seconds: take samples in rounds, start none once this has passed (--spp is "
                   "then the most); depends on the machine, unlike everything else")

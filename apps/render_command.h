@@ -26,6 +26,7 @@ struct RenderOptions {
   double target_error = 0.0;
   double time_limit = 0.0;
   int min_spp = 8;
+  std::string error_goal = to_string(ErrorGoal::pixel);  // what --target-error bounds
   // Selects the pixels' sample streams (RenderSettings::seed): 0 is every render's by default;
   // another gives the same image in expectation with independent noise.
   int seed = 0;

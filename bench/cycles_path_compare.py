@@ -343,7 +343,7 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
                str(args.threads), "--verbose"]
         if mode == "adaptive":
             cmd += ["--target-error", str(args.prism_target_error), "--min-spp",
-                    str(args.adaptive_min_spp)]
+                    str(args.adaptive_min_spp), "--error-goal", args.prism_error_goal]
         if seed is not None:
             cmd += ["--seed", seed]
         return cmd + (["--environment", environment] if environment else [])
@@ -414,6 +414,7 @@ def equal_error(args, prism, out, name, glb, environment, extra, results, res):
                 args.reference_spp - args.test_spp)
         if mode == "adaptive":
             row.update({"prism_target_error": args.prism_target_error,
+                        "prism_error_goal": args.prism_error_goal,
                         "cycles_adaptive_threshold": args.cycles_adaptive_threshold,
                         "adaptive_min_spp": args.adaptive_min_spp,
                         "prism_mean_spp": mean_spp[mode]})
@@ -481,6 +482,8 @@ def main():
     parser.add_argument("--prism-target-error", type=float, default=0.0,
                         help="with --equal-error: adaptive test renders too, Prism with this "
                              "--target-error and Cycles with --cycles-adaptive-threshold")
+    parser.add_argument("--prism-error-goal", choices=("pixel", "image"), default="pixel",
+                        help="what Prism's --target-error bounds (prism render --error-goal)")
     parser.add_argument("--cycles-adaptive-threshold", type=float, default=0.01)
     parser.add_argument("--adaptive-max-spp", type=int, default=1024,
                         help="the most samples a pixel takes in the adaptive test renders")

@@ -31,6 +31,17 @@ constexpr std::span<const EnumName<RayKind>> enum_names(RayKind) {
 }
 inline constexpr size_t kRayKindCount = std::size(kRayKindNames);
 
+// What adaptive sampling's --target-error bounds (renderer/sampling/adaptive_sampling.h):
+// `pixel`, every pixel's estimated relative error (a pixel stops once it is below, as Cycles'
+// noise threshold); `image`, the image's, the root of the mean over pixels of their squared
+// relative errors (relMSE's root), with each pixel given the samples that lower it most.
+enum class ErrorGoal : uint8_t { pixel, image };
+inline constexpr EnumName<ErrorGoal> kErrorGoalNames[] = {{ErrorGoal::pixel, "pixel"},
+                                                          {ErrorGoal::image, "image"}};
+constexpr std::span<const EnumName<ErrorGoal>> enum_names(ErrorGoal) {
+  return kErrorGoalNames;
+}
+
 struct RayCounters {
   uint64_t rays[kRayKindCount] = {};
   // Not rays: samples whose radiance was NaN or infinite, left out of their pixel.
@@ -67,6 +78,7 @@ struct RenderSettings {
   float target_error = 0.0f;        // a pixel stops once its relative error is below; 0 = off
   double time_limit_seconds = 0.0;  // stop after the round in progress once passed; 0 = none
   int min_spp = 8;                  // samples every pixel takes before the first decision
+  ErrorGoal error_goal = ErrorGoal::pixel;  // what target_error bounds
   // The part of the frame rendered (pbrt's pixel bounds): pixels outside it are not traced
   // and stay 0 with alpha 0, and an EXR records it as its data window. Every pixel inside is
   // the full frame's, bit for bit (with adaptive sampling, pixels at its edge may take other

@@ -327,9 +327,9 @@ RenderResult render_adaptive(const RenderContext& context, const std::vector<Til
       // Pixels that stop record their count here; the rest get theirs after the last round,
       // so no round walks the whole image for it.
       {
-        still_active = update_active_pixels(s.width, s.height, sums.data(), first_half.data(),
-                                            s.target_error, static_cast<uint32_t>(done), &error,
-                                            active.data(), samples.data());
+        still_active = update_active_pixels(
+            s.width, s.height, sums.data(), first_half.data(), s.target_error, s.error_goal,
+            static_cast<uint32_t>(done), &error, active.data(), samples.data());
         // Only tiles that were in this round can still have active pixels.
         tile_active.assign(round_tiles.size(), 0);
         tbb::parallel_for(size_t{0}, round_tiles.size(), [&](size_t k) {

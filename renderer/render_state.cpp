@@ -33,6 +33,7 @@ RenderState RenderState::start(const RenderSettings& s) {
   state.spp = std::max(1, s.spp);
   state.min_spp = s.min_spp;
   state.target_error = s.target_error;
+  state.error_goal = s.error_goal;
   state.adaptive = s.adaptive();
   const size_t pixels = static_cast<size_t>(s.width) * s.height;
   state.sums.assign(pixels, PixelSums{});
@@ -58,6 +59,9 @@ std::string RenderState::mismatch(const RenderSettings& s) const {
     return "it is for --min-spp " + std::to_string(min_spp) + " --target-error " +
            std::to_string(target_error) + ", not " + std::to_string(s.min_spp) + " and " +
            std::to_string(s.target_error);
+  if (adaptive && error_goal != s.error_goal)
+    return std::string("it is for --error-goal ") + to_string(error_goal) + ", not " +
+           to_string(s.error_goal);
   const size_t pixels = static_cast<size_t>(width) * height;
   const size_t adaptive_pixels = adaptive ? pixels : 0;
   if (sums.size() != pixels || first_half.size() != adaptive_pixels ||

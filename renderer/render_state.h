@@ -18,6 +18,7 @@ struct RenderState {
   // decides when to stop, not which samples a pixel takes.
   int width = 0, height = 0, spp = 0, min_spp = 0;
   float target_error = 0.0f;
+  ErrorGoal error_goal = ErrorGoal::pixel;
   bool adaptive = false;
 
   // Samples every pixel has taken (uniform), or every still active pixel (adaptive). In an

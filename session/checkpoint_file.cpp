@@ -243,7 +243,7 @@ void write_checkpoint(const std::string& path, const RenderState& state,
     e.i32(state.spp);
     e.i32(state.min_spp);
     e.f32(state.target_error);
-    e.u8(state.adaptive ? 1 : 0);
+    e.u8(state.adaptive ? 1 + static_cast<uint8_t>(state.error_goal) : 0);
     e.i32(state.samples_done);
     e.i32(state.rounds);
     e.f64(state.seconds);
@@ -338,8 +338,10 @@ CheckpointRead read_checkpoint(const std::string& path, const RenderSettings& fi
       !d.f32(&s.target_error) || !d.u8(&adaptive) || !d.i32(&s.samples_done) || !d.i32(&s.rounds) ||
       !d.f64(&s.seconds) || !d.u32(&ray_kinds))
     return refuse(truncated);
-  if (adaptive > 1) return refuse("damaged (adaptive flag)");
-  s.adaptive = adaptive == 1;
+  if (adaptive > 1 + static_cast<uint8_t>(ErrorGoal::image))
+    return refuse("damaged (adaptive flag)");
+  s.adaptive = adaptive != 0;
+  if (s.adaptive) s.error_goal = static_cast<ErrorGoal>(adaptive - 1);
   if (ray_kinds != kRayKindCount)
     return refuse("it counts " + std::to_string(ray_kinds) + " kinds of ray, this Prism " +
                   std::to_string(kRayKindCount));

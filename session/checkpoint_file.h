@@ -5,7 +5,8 @@
 //   "PRISMCKP"                       8 bytes of magic
 //   u32 format version               1
 //   u32 fingerprint length, bytes    at most kMaxCheckpointFingerprint
-//   i32 width, height, spp, min_spp; f32 target error; u8 adaptive (0 or 1)
+//   i32 width, height, spp, min_spp; f32 target error; u8 adaptive: 0 uniform, else 1 + the
+//   error goal (1 pixel, 2 image)
 //   i32 samples done, rounds; f64 seconds
 //   u32 ray kinds (kRayKindCount), then a u64 per kind and u64 discarded samples
 //   u64 pixels (width x height)

@@ -96,6 +96,8 @@ std::string canonical_settings(const SceneRequest& scene, const RenderJob& job,
   line("target-error", number(job.film.target_error));
   line("time-limit", number(job.film.time_limit_seconds));
   line("min-spp", std::to_string(job.film.min_spp));
+  // Only when not the default: jobs keep the fingerprints they had before the goal existed.
+  if (job.film.error_goal != ErrorGoal::pixel) line("error-goal", to_string(job.film.error_goal));
   // Only when set: seed 0's jobs keep the fingerprints they had before seeds existed.
   if (job.film.seed != 0) line("seed", std::to_string(job.film.seed));
   if (job.film.has_region()) {

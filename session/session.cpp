@@ -262,6 +262,9 @@ void check_sampling(const RenderSettings& film) {
   if (!std::isfinite(film.time_limit_seconds) || film.time_limit_seconds < 0.0)
     throw RequestError("time-limit", format_number(film.time_limit_seconds) +
                                          ": expected a finite number of seconds > 0 (or 0: none)");
+  if (film.error_goal != ErrorGoal::pixel && !(film.target_error > 0.0f))
+    throw RequestError("error-goal", std::string(to_string(film.error_goal)) +
+                                         ": bounds a --target-error, and none is set");
   // Rounded up to whole camera-ray packets by the renderer; past 4096 a tile is the image.
   if (film.tile_size < 1 || film.tile_size > 4096)
     throw RequestError("tile-size", std::to_string(film.tile_size) + ": expected 1 to 4096");
@@ -693,6 +696,7 @@ RenderMetadata Session::metadata(const RenderJob& job, const Plan& p, BuildQuali
                    {{"adaptiveTargetError", format_number(s.target_error)},
                     {"adaptiveTimeLimit", format_number(s.time_limit_seconds)},
                     {"adaptiveMinSpp", std::to_string(s.min_spp)},
+                    {"adaptiveErrorGoal", to_string(s.error_goal)},
                     {"adaptiveRounds", std::to_string(out.result.rounds)},
                     {"adaptiveTimeLimitReached", out.result.time_limit_reached ? "1" : "0"},
                     {"samplesTaken", std::to_string(out.result.rays[RayKind::camera])},

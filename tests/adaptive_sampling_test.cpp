@@ -5,12 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <vector>
 
 #include "integrators/registry.h"
-#include "renderer/sampling/adaptive_sampling.h"
 #include "renderer/image/image_metrics.h"
+#include "renderer/sampling/adaptive_sampling.h"
+#include "scene_io/gltf_loader.h"
 #include "tests/test_scenes.h"
 
 namespace prism {
@@ -121,8 +123,9 @@ TEST(AdaptiveSampling, NeighboursKeepSamplingWhileHalfAPixelsErrorIsAboveTheTarg
     std::vector<uint8_t> active(kSide * kSide, 1);
     std::vector<uint32_t> taken(kSide * kSide, 0);
     std::vector<float> error;
-    EXPECT_EQ(c.active, update_active_pixels(kSide, kSide, all.data(), first.data(), c.target, 16,
-                                             &error, active.data(), taken.data()))
+    EXPECT_EQ(c.active,
+              update_active_pixels(kSide, kSide, all.data(), first.data(), c.target,
+                                   ErrorGoal::pixel, 16, &error, active.data(), taken.data()))
         << c.target;
     for (int y = 0; y < kSide; ++y)
       for (int x = 0; x < kSide; ++x) {
@@ -221,28 +224,100 @@ TEST(AdaptiveSampling, TargetErrorIsMetAgainstAHighSppReference) {
   }
 }
 
-TEST(AdaptiveSampling, BitIdenticalForAnyThreadCountAndTileSize) {
-  const SceneDescription scene = lit_disc_scene();
-  const auto whitted = make_integrator("whitted");
+// The image goal's threshold, on a 3 x 2 image worked by hand: three active pixels at 64
+// samples with errors 0.1, 0.2 and 0.4, one stopped at 16 with 0.05, one stopped at 32 with
+// 0.1, and one outside the region (no samples, an error that must not count). Mean e^2 over
+// the five: (0.01 + 0.04 + 0.16 + 0.0025 + 0.01) / 5 = 0.0445; S = sum of e sqrt(n) =
+// 0.1 * 8 + 0.2 * 8 + 0.4 * 8 + 0.05 * 4 + 0.1 * sqrt(32) = 5.8 + 0.565685.
+TEST(AdaptiveSampling, ImageGoalHoldsEachPixelToItsShareOfTheFewestSamples) {
+  const std::vector<float> error = {0.1f, 0.2f, 0.4f, 0.05f, 0.1f, 9.0f};
+  const std::vector<uint8_t> active = {1, 1, 1, 0, 0, 0};
+  const std::vector<uint32_t> taken = {0, 0, 0, 16, 32, 0};
+  const auto threshold = [&](double target, ErrorGoal goal) {
+    return active_threshold(3, 2, error.data(), active.data(), taken.data(), target, goal, 64);
+  };
+  // 8 * 5 * 0.1^2 / S: pixels above 0.0628 keep sampling (the two noisiest), and the
+  // allocation they move towards, n_i = sqrt(v_i) S / (P target^2), meets the target.
+  const double s = 5.8 + 0.1 * std::sqrt(32.0);
+  EXPECT_NEAR(threshold(0.1, ErrorGoal::image), 8.0 * 5.0 * 0.01 / s, 1e-6);
+  double mean_squared = 0.0;
+  for (int i = 0; i < 5; ++i) {
+    const double n = active[i] ? 64.0 : taken[i];
+    const double v = double(error[i]) * error[i] * n;
+    const double share = std::sqrt(v) * s / (5.0 * 0.01);
+    mean_squared += v / share / 5.0;
+  }
+  EXPECT_NEAR(mean_squared, 0.01, 1e-6);
+  // Met (0.0445 <= 0.22^2 = 0.0484): every pixel stops; just not met (0.21^2 = 0.0441).
+  EXPECT_EQ(threshold(0.22, ErrorGoal::image), std::numeric_limits<double>::infinity());
+  EXPECT_LT(threshold(0.21, ErrorGoal::image), 1.0);
+  // The pixel goal's threshold is the target.
+  EXPECT_EQ(threshold(0.1, ErrorGoal::pixel), 0.1);
+}
+
+// On the Cornell box path traced (Monte Carlo noise everywhere, very unequal from pixel to
+// pixel), the image goal gives a lower image error for the samples it takes than the pixel
+// goal: relMSE x mean spp, against an independent 1024-spp reference, below the pixel
+// goal's at target 0.04 (0.4114 against 0.4458 here, 135 and 159 spp mean; docs/sampling.md
+// has targets 0.03 to 0.06: below about 60 spp mean the estimates are too noisy to gain). Its
+// estimate of the image's error is optimistic (pixels stop on lucky halves and keep that
+// estimate): the relative RMS reached lies within 1.5x the target.
+TEST(AdaptiveSampling, ImageGoalLowersTheImageErrorForTheSamplesTaken) {
+  const SceneDescription scene = load_gltf(PRISM_SOURCE_DIR "/scenes/cornell.gltf");
+  const auto path = make_integrator("path", {{"max-depth", 8}});
   testing::TestSettings settings;
-  settings.width = 97;
-  settings.height = 61;
-  settings.spp = 128;
-  settings.target_error = 0.02f;
-  settings.background = Imath::V3f(0.5f);
-  settings.threads = 1;
-  settings.tile_size = 8;
-  const auto one = render_scene(scene, *whitted, settings);
-  settings.threads = 2;
-  settings.tile_size = 16;
-  const auto two = render_scene(scene, *whitted, settings);
-  ASSERT_EQ(one.image.rgba.size(), two.image.rgba.size());
-  EXPECT_EQ(0, std::memcmp(one.image.rgba.data(), two.image.rgba.data(),
-                           one.image.rgba.size() * sizeof(float)));
-  EXPECT_EQ(one.result.samples_per_pixel, two.result.samples_per_pixel);
-  EXPECT_EQ(one.result.rays.total(), two.result.rays.total());
-  EXPECT_EQ(one.result.rounds, two.result.rounds);
-  EXPECT_LT(one.result.rays[RayKind::camera], static_cast<uint64_t>(97 * 61 * 128));
+  settings.width = settings.height = 100;
+  settings.spp = 1024;
+  settings.seed = 7;
+  const auto reference = render_scene(scene, *path, settings);
+  settings.seed = 0;
+  settings.spp = 512;
+  settings.min_spp = 16;
+  settings.target_error = 0.04f;
+  double cost[2];
+  for (ErrorGoal goal : {ErrorGoal::pixel, ErrorGoal::image}) {
+    settings.error_goal = goal;
+    const auto r = render_scene(scene, *path, settings);
+    const double relmse = compare_images(r.image, reference.image).overall.relmse;
+    const double spp = r.result.mean_spp(settings);
+    cost[static_cast<int>(goal)] = relmse * spp;
+    std::printf(
+        "%s goal, target 0.04: relMSE %.6f (relative RMS %.4f), %.1f spp mean, "
+        "relMSE x spp %.4f\n",
+        to_string(goal), relmse, std::sqrt(relmse), spp, relmse * spp);
+    if (goal == ErrorGoal::image) {
+      EXPECT_LT(std::sqrt(relmse), 1.5 * settings.target_error);
+      EXPECT_GT(std::sqrt(relmse), 0.5 * settings.target_error);
+    }
+  }
+  EXPECT_LT(cost[1], cost[0]);
+}
+
+TEST(AdaptiveSampling, BitIdenticalForAnyThreadCountAndTileSize) {
+  for (ErrorGoal goal : {ErrorGoal::pixel, ErrorGoal::image}) {
+    const SceneDescription scene = lit_disc_scene();
+    const auto whitted = make_integrator("whitted");
+    testing::TestSettings settings;
+    settings.width = 97;
+    settings.height = 61;
+    settings.spp = 128;
+    settings.target_error = 0.02f;
+    settings.error_goal = goal;
+    settings.background = Imath::V3f(0.5f);
+    settings.threads = 1;
+    settings.tile_size = 8;
+    const auto one = render_scene(scene, *whitted, settings);
+    settings.threads = 2;
+    settings.tile_size = 16;
+    const auto two = render_scene(scene, *whitted, settings);
+    ASSERT_EQ(one.image.rgba.size(), two.image.rgba.size());
+    EXPECT_EQ(0, std::memcmp(one.image.rgba.data(), two.image.rgba.data(),
+                             one.image.rgba.size() * sizeof(float)));
+    EXPECT_EQ(one.result.samples_per_pixel, two.result.samples_per_pixel);
+    EXPECT_EQ(one.result.rays.total(), two.result.rays.total());
+    EXPECT_EQ(one.result.rounds, two.result.rounds);
+    EXPECT_LT(one.result.rays[RayKind::camera], static_cast<uint64_t>(97 * 61 * 128));
+  }
 }
 
 // Rounds take the same samples in the same order as one pass: with nothing converging

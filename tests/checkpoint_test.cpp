@@ -175,10 +175,11 @@ TEST(Checkpoint, SamplesGroupedIntoLongPassesGiveTheSameImage) {
   EXPECT_TRUE(same_rays(out.result.rays, whole.result.rays));
 }
 
-TEST(Checkpoint, AdaptiveRenderResumesBitIdentically) {
-  const RenderJob job = adaptive_job();
+// An adaptive job whose target stops some pixels early and keeps others to the end, stopped
+// at boundaries inside the first round (8 passes), at its end (the 8th poll: after the
+// decision), inside later rounds and late in the render, and resumed.
+void check_adaptive_resume(const RenderJob& job) {
   const RenderOutput whole = session().render(job);
-  // The target stops some pixels early and keeps others to the end.
   uint32_t fewest = whole.film.spp, most = 0;
   for (uint32_t n : whole.result.samples_per_pixel) {
     fewest = std::min(fewest, n);
@@ -186,9 +187,20 @@ TEST(Checkpoint, AdaptiveRenderResumesBitIdentically) {
   }
   ASSERT_LT(fewest, static_cast<uint32_t>(whole.film.spp));
   ASSERT_GT(most, fewest);
-  // Boundaries inside the first round (8 passes), at its end (the 8th poll: after the
-  // decision), inside later rounds, and late in the render.
   check_stop_and_resume(job, {3, 8, 11, 30});
+}
+
+TEST(Checkpoint, AdaptiveRenderResumesBitIdentically) {
+  check_adaptive_resume(adaptive_job());
+}
+
+// The image goal's decisions read every pixel's error and sample count, the stopped ones'
+// included: a resumed state must hold them as the uninterrupted render did.
+TEST(Checkpoint, AdaptiveRenderWithTheImageGoalResumesBitIdentically) {
+  RenderJob job = adaptive_job();
+  job.film.error_goal = ErrorGoal::image;
+  job.film.target_error = 0.02f;
+  check_adaptive_resume(job);
 }
 
 TEST(Checkpoint, StateAtARoundEndHoldsItsDecision) {
@@ -257,6 +269,16 @@ TEST_F(CheckpointFile, ReadsBackWhatWasWritten) {
   EXPECT_EQ(state_.active, s.active);
   EXPECT_EQ(state_.samples_per_pixel, s.samples_per_pixel);
   EXPECT_EQ(0, std::memcmp(state_.error.data(), s.error.data(), s.error.size() * sizeof(float)));
+  EXPECT_EQ(ErrorGoal::pixel, s.error_goal);
+  // The goal travels in the adaptive byte: an image-goal state reads back as one.
+  RenderState image_state = state_;
+  image_state.error_goal = ErrorGoal::image;
+  RenderSettings image_film = film_;
+  image_film.error_goal = ErrorGoal::image;
+  write_checkpoint(path_, image_state, "fingerprint-1");
+  const CheckpointRead image_read = read_checkpoint(path_, image_film, "fingerprint-1");
+  ASSERT_TRUE(image_read.state) << image_read.reason;
+  EXPECT_EQ(ErrorGoal::image, image_read.state->error_goal);
 }
 
 TEST_F(CheckpointFile, RefusesAWrongFingerprint) {
@@ -276,6 +298,9 @@ TEST_F(CheckpointFile, RefusesAnotherFilm) {
   other = film_;
   other.target_error *= 0.5f;
   refused(other, "fingerprint-1");
+  other = film_;
+  other.error_goal = ErrorGoal::image;
+  EXPECT_NE(std::string::npos, refused(other, "fingerprint-1").find("--error-goal pixel"));
   // And the renderer refuses such a state itself.
   RenderJob wider = job_;
   wider.width += 4;

@@ -40,9 +40,47 @@ double pixel_relative_error(const PixelSums& all, const PixelSums& first_half) {
   return std::sqrt(sum / 3.0);
 }
 
+double active_threshold(int width, int height, const float* error, const uint8_t* active,
+                        const uint32_t* samples_taken, double target, ErrorGoal goal,
+                        uint32_t samples_done) {
+  if (goal == ErrorGoal::pixel) return target;
+  // Per row in parallel, then the rows in order: the same sums for any thread count.
+  struct RowSums {
+    double squared_error = 0.0, share = 0.0;  // sums of e^2 and of e sqrt(n)
+    size_t pixels = 0;
+  };
+  std::vector<RowSums> rows(static_cast<size_t>(height));
+  tbb::parallel_for(0, height, [&](int y) {
+    RowSums r;
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      const uint32_t n = active[i] ? samples_done : samples_taken[i];
+      if (n == 0) continue;
+      const double e = error[i];
+      r.squared_error += e * e;
+      r.share += e * std::sqrt(static_cast<double>(n));
+      ++r.pixels;
+    }
+    rows[static_cast<size_t>(y)] = r;
+  });
+  RowSums image;
+  for (const RowSums& r : rows) {
+    image.squared_error += r.squared_error;
+    image.share += r.share;
+    image.pixels += r.pixels;
+  }
+  const double target_squared = target * target;
+  if (image.pixels == 0 || image.squared_error <= image.pixels * target_squared)
+    return std::numeric_limits<double>::infinity();
+  // An infinite estimate (a pixel with an empty half) makes S infinite: every pixel above
+  // 0 keeps sampling until the estimates are finite.
+  return std::sqrt(static_cast<double>(samples_done)) * image.pixels * target_squared / image.share;
+}
+
 size_t update_active_pixels(int width, int height, const PixelSums* sums,
-                            const PixelSums* first_half, double target, uint32_t samples_done,
-                            std::vector<float>* error, uint8_t* active, uint32_t* samples_taken) {
+                            const PixelSums* first_half, double target, ErrorGoal goal,
+                            uint32_t samples_done, std::vector<float>* error, uint8_t* active,
+                            uint32_t* samples_taken) {
   error->resize(static_cast<size_t>(width) * height);
   float* e = error->data();
   // Rows are independent and each value a pure function of its pixel's sums, so running
@@ -57,7 +95,8 @@ size_t update_active_pixels(int width, int height, const PixelSums* sums,
   });
   // The active flags are read from the error alone and written only for their own pixel;
   // the count is a sum of integers, the same in any order.
-  const float threshold = static_cast<float>(target);
+  const float threshold = static_cast<float>(
+      active_threshold(width, height, e, active, samples_taken, target, goal, samples_done));
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(0, height), size_t{0},
       [&](const tbb::blocked_range<int>& rows, size_t count) {

@@ -56,15 +56,35 @@ double pixel_relative_error(const PixelSums& all, const PixelSums& first_half);
 // tests/adaptive_sampling_test.cpp still comes out below the target (docs/sampling.md).
 inline constexpr float kNeighbourWeight = 0.5f;
 
+// The error a pixel's neighbourhood-weighed estimate is held to after a round, for `goal`:
+//  - ErrorGoal::pixel: `target` itself;
+//  - ErrorGoal::image: infinity (every pixel stops) once the image's estimated relative RMS error,
+//    sqrt(mean over pixels of e_i^2), is at most `target`; before that, the error at which a
+//    pixel of n samples has its share of an allocation that meets the target with the fewest
+//    samples. A pixel's mean has e_i^2 = v_i / n_i for its samples' relative variance v_i, and
+//    the mean of v_i / n_i is smallest for a given sum of n_i when n_i is proportional to
+//    sqrt(v_i) (a Lagrange multiplier: v_i / n_i^2 equal everywhere), which meets target^2
+//    with n_i = sqrt(v_i) S / (P target^2), S the sum over the P pixels of sqrt(v_j) =
+//    e_j sqrt(n_j). Pixel i is short of it while e_i > sqrt(n_i) P target^2 / S. Per-pixel
+//    thresholds (the pixel goal, Cycles') give n_i proportional to v_i instead, which for the
+//    mean of v_i / n_i is no better than uniform sampling.
+// `samples_done`: the active pixels' count; stopped pixels count their `samples_taken`;
+// pixels that take no samples (outside the region) count for nothing. The sums run over rows
+// in order, so the result is the same for any thread count.
+double active_threshold(int width, int height, const float* error, const uint8_t* active,
+                        const uint32_t* samples_taken, double target, ErrorGoal goal,
+                        uint32_t samples_done);
+
 // After the round that ended at `samples_done` samples: a pixel stays active when it was
 // and the largest of its own error and kNeighbourWeight times the errors of the rest of its
-// 3x3 neighbourhood is above `target`. The neighbourhood keeps a pixel whose two halves
-// agreed by luck sampling as long as the edge it lies on has clearly not converged. `error`
-// keeps each pixel's last estimate between calls (sized here on the first; only active
-// pixels are estimated again). A pixel that stops gets `samples_done` in `samples_taken`.
-// Returns how many pixels stay active.
+// 3x3 neighbourhood is above active_threshold(). The neighbourhood keeps a pixel whose two
+// halves agreed by luck sampling as long as the edge it lies on has clearly not converged.
+// `error` keeps each pixel's last estimate between calls (sized here on the first; only
+// active pixels are estimated again). A pixel that stops gets `samples_done` in
+// `samples_taken`. Returns how many pixels stay active.
 size_t update_active_pixels(int width, int height, const PixelSums* sums,
-                            const PixelSums* first_half, double target, uint32_t samples_done,
-                            std::vector<float>* error, uint8_t* active, uint32_t* samples_taken);
+                            const PixelSums* first_half, double target, ErrorGoal goal,
+                            uint32_t samples_done, std::vector<float>* error, uint8_t* active,
+                            uint32_t* samples_taken);
 
 }  // namespace prism

@@ -37,6 +37,8 @@ expect_usage "--target-error 0.01 with --spp 8: adaptive sampling takes --min-sp
   --target-error 0.01 --spp 8
 expect_usage "--target-error 0.05 with --spp 1: .*--min-spp 8" --target-error 0.05 --spp 1
 expect_usage "--target-error 0.05 with --spp 4: .*--min-spp 4 samples" --target-error 0.05 --spp 4 --min-spp 4
+expect_usage "--error-goal frame: expected pixel or image" --error-goal frame --target-error 0.01
+expect_usage "--error-goal image: bounds a --target-error, and none is set" --error-goal image
 expect_usage "--sample-count-image .*must end in .exr" --target-error 0.01 \
   --sample-count-image "$TMP/counts.png"
 
@@ -54,6 +56,7 @@ idiff -fail 0 -failpercent 0 -warn 0 "$TMP/a1.exr" "$TMP/a2.exr" >/dev/null || f
 idiff -fail 0 -failpercent 0 -warn 0 "$TMP/n1.exr" "$TMP/n2.exr" >/dev/null || fail "sample counts differ"
 info=$(iinfo -v "$TMP/a1.exr")
 for expected in "prism:spp: 64" 'prism:adaptiveTargetError: "0.02"' 'prism:adaptiveMinSpp: "8"' \
+  'prism:adaptiveErrorGoal: "pixel"' \
   'prism:adaptiveRounds: "' 'prism:samplesTaken: "' 'prism:meanSpp: "'; do
   grep -qF "$expected" <<<"$info" || fail "EXR lacks '$expected'"
 done
@@ -61,6 +64,23 @@ done
 stats=$(oiiotool "$TMP/n1.exr" --printstats 2>&1)
 grep -qE "Min: 8\.0+ " <<<"$stats" || fail "smallest sample count is not 8: $(grep Min: <<<"$stats")"
 grep -qE "Max: 64\.0+ " <<<"$stats" || fail "largest sample count is not 64: $(grep Max: <<<"$stats")"
+
+# The image goal: fewer samples than every pixel below the same target takes, the same
+# pixels with 1 and 2 threads, said in the EXR.
+for threads in 1 2; do
+  "$PRISM" render "$SCENE" -o "$TMP/g$threads.exr" --res 160x90 --spp 64 --target-error 0.02 \
+    --error-goal image --threads "$threads" >"$TMP/stdout$threads" 2>"$TMP/stderr" ||
+    fail "image-goal render with $threads threads: $(cat "$TMP/stderr")"
+done
+idiff -fail 0 -failpercent 0 -warn 0 "$TMP/g1.exr" "$TMP/g2.exr" >/dev/null ||
+  fail "image goal: 1 and 2 threads differ"
+iinfo -v "$TMP/g1.exr" | grep -qF 'prism:adaptiveErrorGoal: "image"' || fail "EXR lacks the image goal"
+mean_spp() { iinfo -v "$1" | sed -n 's/.*prism:meanSpp: "\([0-9.]*\)".*/\1/p'; }
+pixel_spp=$(mean_spp "$TMP/a1.exr")
+image_spp=$(mean_spp "$TMP/g1.exr")
+awk -v a="$image_spp" -v b="$pixel_spp" 'BEGIN { exit !(a < b) }' ||
+  fail "image goal took $image_spp spp mean, the pixel goal $pixel_spp"
+echo "ok: target 0.02: image goal $image_spp spp mean, pixel goal $pixel_spp"
 
 # A time limit that passes during the first round: one round of --min-spp samples, said so.
 "$PRISM" render "$SCENE" -o "$TMP/t.exr" --res 160x90 --spp 256 --min-spp 4 --time-limit 0.000001 \
