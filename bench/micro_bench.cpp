@@ -316,7 +316,8 @@ void BM_ShadeLocal(benchmark::State& state) {
     V3f sum(0.0f);
     for (const PreparedHit& p : hits) {
       const SurfaceResponse surface = evaluate(s.scene->material(p.hit.material), p.hit);
-      sum += shade_local<Shadows>(context, AmbientLight{}, p.hit, surface, p.to_viewer, &counters);
+      sum +=
+          shade_local<Shadows>(context, AmbientLight{}, p.hit, surface, p.to_viewer, {}, &counters);
     }
     benchmark::DoNotOptimize(sum);
   }

@@ -21,9 +21,10 @@ void render_direct_tile_with(const RenderContext& context, const AmbientLight& a
   };
   if (render_tile_queueing_shadows<F>(context, ambient, tile, image, counters, direct_only)) return;
   render_tile_shading_hits(
-      context, tile, image, counters, [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
+      context, tile, image, counters,
+      [&](const Ray& ray, const SurfaceHit& hit, const PixelSampleId& sample, RayCounters* c) {
         const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
-        return shade_direct<F>(context, ambient, hit, surface, -ray.direction, c);
+        return shade_direct<F>(context, ambient, hit, surface, -ray.direction, {sample, 0}, c);
       });
 }
 

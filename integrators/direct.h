@@ -18,9 +18,10 @@ namespace prism {
 template <ShadingFlags F>
 Imath::V3f shade_direct(const RenderContext& context, const AmbientLight& ambient,
                         const SurfaceHit& hit, const SurfaceResponse& surface,
-                        const Imath::V3f& to_viewer, RayCounters* counters) {
+                        const Imath::V3f& to_viewer, const ShadingSample& sample,
+                        RayCounters* counters) {
   const Imath::V3f local =
-      shade_local<F.shadows>(context, ambient, hit, surface, to_viewer, counters);
+      shade_local<F.shadows>(context, ambient, hit, surface, to_viewer, sample, counters);
   if constexpr (F.emission)
     return surface.emission + local;
   else

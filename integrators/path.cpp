@@ -75,17 +75,11 @@ constexpr uint32_t kDimensionsPerBounce = 8;
 constexpr uint32_t kStratifiedBounces = 2;
 constexpr uint32_t kStratifiedEnd =
     PixelSampler::kFirstIntegratorDimension + kDimensionsPerBounce * kStratifiedBounces;
-// Shadow rays towards an area light stop short of its surface by this fraction of the distance.
-constexpr float kShadowRayEnd = 0.9999f;
 constexpr float kInfiniteDistance = std::numeric_limits<float>::infinity();
 
 float power_heuristic(float f, float g) {
   const float f2 = f * f, g2 = g * g;
   return f2 / (f2 + g2);
-}
-
-float max_component(const V3f& c) {
-  return fmax_inline(c.x, fmax_inline(c.y, c.z));
 }
 
 struct PathParameters {
@@ -284,7 +278,7 @@ struct PathTracer {
           if (!(chosen.has_view ? light.sample(reference, chosen.view, u, &arrival)
                                 : light.sample(reference, u, &arrival)))
             return V3f(0.0f);
-          arrival.distance *= kShadowRayEnd;
+          arrival.distance *= kAreaLightShadowRayEnd;
           break;
         } else {
           return V3f(0.0f);

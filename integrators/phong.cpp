@@ -1,6 +1,7 @@
 // phong: the lecture's local shading equation (ambient plus each light through the surface's
-// BRDF, glTF's by default) at the nearest hit of each view ray, plus emission. No shadows,
-// no secondary rays.
+// BRDF, glTF's by default) at the nearest hit of each view ray, plus emission. Emissive
+// surfaces light it too, by one area-light sample per hit (integrators/local_shading.h). No
+// shadows, no secondary rays.
 //
 // | parameter           | type   | default | meaning                                        |
 // | ------------------- | ------ | ------- | ---------------------------------------------- |

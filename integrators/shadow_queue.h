@@ -85,14 +85,15 @@ void shade_packet_direct(const RenderContext& context, const AmbientLight& ambie
     results[i].hit = true;
   }
   // The first chunk's call also forms the ambient term, where each sum starts.
-  const size_t lights = context.scene.lights().size();
+  const size_t terms = light_terms(context.scene);
   const AmbientLight none{Imath::V3f(0.0f), ambient.scope, /*environment=*/0.0f};
-  for (size_t first = 0; first == 0 || first < lights; first += ShadowQueue::kLightsPerChunk) {
+  for (size_t first = 0; first == 0 || first < terms; first += ShadowQueue::kLightsPerChunk) {
     const LightRange chunk{first, first + ShadowQueue::kLightsPerChunk};
     for (int i = 0; i < p.count; ++i) {
       if (!p.found[i]) continue;
       const Imath::V3f start = shade_local_with<true>(
           context, first == 0 ? ambient : none, p.hits[i], surfaces[i], -p.rays[i].direction,
+          ShadingSample{p.id(i), 0},
           [&](Imath::V3f&, const Ray& shadow_ray, auto&& contribution, size_t light) {
             queue->add(i, static_cast<int>(light - first), shadow_ray, contribution());
           },

@@ -47,6 +47,8 @@ struct CameraPacket {
   Ray rays[EmbreeScene::kPacketSize];
   SurfaceHit hits[EmbreeScene::kPacketSize];
   bool found[EmbreeScene::kPacketSize];
+
+  PixelSampleId id(int lane) const { return {sample_key[lane], sample_index}; }
 };
 
 // Takes context.pass's samples of every pixel of the tile; `shade_packet(packet, results,
@@ -123,9 +125,9 @@ void render_tile_packets(const RenderContext& context, const TileRect& tile, Ima
   }
 }
 
-// The common case: each camera ray's nearest hit is shaded by `shade(ray, hit, counters)`,
-// one at a time, and a ray that hits nothing sees the environment's background (black where
-// the environment is hidden from the camera).
+// The common case: each camera ray's nearest hit is shaded by `shade(ray, hit, sample,
+// counters)`, `sample` its PixelSampleId, one at a time, and a ray that hits nothing sees the
+// environment's background (black where the environment is hidden from the camera).
 template <typename ShadeFn>
 void render_tile_shading_hits(const RenderContext& context, const TileRect& tile, Image* image,
                               RayCounters* counters, ShadeFn&& shade) {
@@ -134,7 +136,7 @@ void render_tile_shading_hits(const RenderContext& context, const TileRect& tile
       [&](const CameraPacket& p, SampleResult* results, RayCounters* c) {
         for (int i = 0; i < p.count; ++i) {
           results[i] =
-              p.found[i] ? SampleResult{shade(p.rays[i], p.hits[i], c), true}
+              p.found[i] ? SampleResult{shade(p.rays[i], p.hits[i], p.id(i), c), true}
                          : SampleResult{context.scene.environment().background(p.rays[i].direction),
                                         false};
         }

@@ -23,8 +23,9 @@
 // | environment-ambient | number  | 1       | share of the environment's E(N)/pi in I_a       |
 //
 // Rays that leave the scene see the scene's environment (--background, --environment),
-// which also lights the ambient term. The mirror and dielectric weights are the BSDF's delta
-// lobes (Bsdf::specular_lobes).
+// which also lights the ambient term. Emissive surfaces light every hit of the chain by one
+// area-light sample each (integrators/local_shading.h), from dimensions of its own depth. The
+// mirror and dielectric weights are the BSDF's delta lobes (Bsdf::specular_lobes).
 #include "integrators/direct.h"
 #include "integrators/registry.h"
 #include "integrators/shadow_queue.h"
@@ -71,38 +72,41 @@ struct WhittedTracer {
                                SurfaceResponse* surfaces, RayCounters* c) {
       for (int i = 0; i < p.count; ++i) {
         if (p.found[i])
-          results[i].radiance =
-              add_secondary(p.rays[i], p.hits[i], surfaces[i], 0, results[i].radiance, c);
+          results[i].radiance = add_secondary(p.rays[i], p.hits[i], surfaces[i], {p.id(i), 0},
+                                              results[i].radiance, c);
       }
     };
     if (render_tile_queueing_shadows<F>(context, params.ambient(0), tile, image, counters,
                                         secondary))
       return;
-    render_tile_shading_hits(context, tile, image, counters,
-                             [&](const Ray& ray, const SurfaceHit& hit, RayCounters* c) {
-                               return shade(ray, hit, 0, c);
-                             });
+    render_tile_shading_hits(
+        context, tile, image, counters,
+        [&](const Ray& ray, const SurfaceHit& hit, const PixelSampleId& sample, RayCounters* c) {
+          return shade(ray, hit, {sample, 0}, c);
+        });
   }
 
-  V3f trace(const Ray& ray, int depth, RayCounters* counters) const {
+  // `sample.depth`: how many mirror or refraction rays led from the camera to `ray`'s hit.
+  V3f trace(const Ray& ray, const ShadingSample& sample, RayCounters* counters) const {
     SurfaceHit hit;
     if (!context.scene.geometry().intersect(ray, &hit))
       return context.scene.environment().radiance(ray.direction);
-    return shade(ray, hit, depth, counters);
+    return shade(ray, hit, sample, counters);
   }
 
-  V3f shade(const Ray& ray, const SurfaceHit& hit, int depth, RayCounters* counters) const {
+  V3f shade(const Ray& ray, const SurfaceHit& hit, const ShadingSample& sample,
+            RayCounters* counters) const {
     const SurfaceResponse surface = evaluate(context.scene.material(hit.material), hit);
-    const V3f direct =
-        shade_direct<F>(context, params.ambient(depth), hit, surface, -ray.direction, counters);
-    return add_secondary(ray, hit, surface, depth, direct, counters);
+    const V3f direct = shade_direct<F>(context, params.ambient(sample.depth), hit, surface,
+                                       -ray.direction, sample, counters);
+    return add_secondary(ray, hit, surface, sample, direct, counters);
   }
 
   // `radiance` (the hit's direct light) plus what its mirror reflection and refraction
-  // bring, unless the chain is `depth` long already.
+  // bring, unless the chain is `sample.depth` long already.
   V3f add_secondary(const Ray& ray, const SurfaceHit& hit, const SurfaceResponse& surface,
-                    int depth, V3f radiance, RayCounters* counters) const {
-    if (depth >= params.max_depth) return radiance;
+                    const ShadingSample& sample, V3f radiance, RayCounters* counters) const {
+    if (sample.depth >= params.max_depth) return radiance;
     const V3f to_viewer = -ray.direction;
     const V3f n = surface.bsdf.normal_towards(to_viewer);
     const V3f outside = face_forward(hit.geometric_normal, to_viewer);  // the viewer's side
@@ -116,7 +120,8 @@ struct WhittedTracer {
                                    hit.surface_error);
       r.direction = lobe.wi;
       ++(*counters)[lobe.transmission ? RayKind::refraction : RayKind::reflection];
-      radiance += hadamard(lobe.colour, trace(r, depth + 1, counters)) * lobe.scale;
+      radiance +=
+          hadamard(lobe.colour, trace(r, {sample.id, sample.depth + 1}, counters)) * lobe.scale;
     }
     return radiance;
   }

@@ -38,6 +38,10 @@ inline float luminance(const V3f& c) {
   return fmax_inline(0.0f, 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z);
 }
 
+inline float max_component(const V3f& c) {
+  return fmax_inline(c.x, fmax_inline(c.y, c.z));
+}
+
 inline bool is_finite(const V3f& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

@@ -55,6 +55,7 @@ RenderScene::RenderScene(std::shared_ptr<EmbreeDevice> device, const SceneDescri
   light_sampler_ = LightSampler(lights_, scene_radius_);
   area_lights_ = make_area_lights(geometry_.emitters(), materials_, default_material_);
   emitter_sampler_ = EmitterSampler(lights_, area_lights_, environment_, scene_radius_);
+  area_light_sampler_ = EmitterSampler({}, area_lights_, Environment(), scene_radius_);
 }
 
 void RenderScene::set_environment(const Environment& environment) {

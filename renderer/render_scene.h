@@ -57,6 +57,9 @@ class RenderScene {
   // Chooses among the punctual lights, the area lights and the environment by power, for
   // integrators that sample every kind of light (integrators/path.cpp).
   const EmitterSampler& emitter_sampler() const { return emitter_sampler_; }
+  // Chooses among the area lights alone, for the integrators that visit every punctual light
+  // and take the environment as ambient light (integrators/local_shading.h).
+  const EmitterSampler& area_light_sampler() const { return area_light_sampler_; }
   // The material at a hit, -1 being glTF's default material (white, metallic 1, rough 1).
   const Material& material(int index) const {
     return index >= 0 && index < static_cast<int>(materials_.size()) ? materials_[index]
@@ -80,6 +83,7 @@ class RenderScene {
   Environment environment_;
   std::vector<AreaLight> area_lights_;  // point into materials_
   EmitterSampler emitter_sampler_;
+  EmitterSampler area_light_sampler_;
   float scene_radius_ = 1.0f;  // a sphere around the geometry: sizes infinite lights' power
   SceneFeatures features_;
 };

@@ -223,7 +223,9 @@ bool light_outside(const Sphere& sphere, const Light& light) {
 
 // The shadow rule. A shadow ray is only ever blocked by geometry between a lit point and a
 // light, so:
-//   - no light, or no geometry: nothing to block;
+//   - no geometry, or no light (neither punctual nor emissive): nothing to block;
+//   - an emissive surface: it lights the other objects, and a curved one itself, as an area
+//     light (every integrator samples it with shadow rays): not analysed further;
 //   - two or more objects (mesh instances with triangles, spheres): one may block another;
 //   - one sphere rendered exactly (analytic or Embree points): a convex surface with its
 //     true normal. Seen from outside, a point facing a light sees it (the whole sphere lies
@@ -240,7 +242,9 @@ bool light_outside(const Sphere& sphere, const Light& light) {
 // Whether the shadow falls where the camera looks is not considered: always conservative.
 bool can_shadow(const SceneDescription& scene, const SphereOptions& spheres,
                 const SceneFeatures& f) {
-  if (f.lights == LightKinds::none || f.objects == 0) return false;
+  if (f.objects == 0) return false;
+  if (f.emission) return true;
+  if (f.lights == LightKinds::none) return false;
   if (f.objects >= 2) return true;
   if (f.spheres == 1) {
     if (spheres.mode == SphereMode::mesh) return true;

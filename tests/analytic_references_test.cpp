@@ -105,8 +105,9 @@ TEST(AnalyticReference, DiscAreaConvergesToPiRSquared) {
 }
 
 // A white metal mirror sphere (F0 = 1: Schlick's F is 1 at every angle) inside a box of six
-// emitting walls of different colours. Each pixel reflects the wall its mirror direction
-// points at, exactly.
+// emitting walls of different colours that reflect nothing (black base, no specular layer:
+// the walls light each other, and would show that through a dielectric layer's F0). Each
+// pixel reflects the wall its mirror direction points at, exactly.
 TEST(AnalyticReference, MirrorSphereReflectsTheEnvironmentItFaces) {
   SceneDescription scene;
   MaterialDescription mirror;
@@ -122,6 +123,7 @@ TEST(AnalyticReference, MirrorSphereReflectsTheEnvironmentItFaces) {
       MaterialDescription wall;
       wall.base_colour = C3f(0.0f);
       wall.metallic = 0.0f;
+      wall.specular = 0.0f;
       wall.emissive = wall_colours[index];
       scene.materials.push_back(wall);
       const float s = side == 0 ? 50.0f : -50.0f;

@@ -11,38 +11,27 @@
 #include <numbers>
 
 #include "integrators/registry.h"
+#include "tests/analytic_scenes.h"
 #include "tests/test_scenes.h"
 
 namespace prism {
 namespace {
 
+using testing::difference;
+using testing::emissive;
+using testing::estimate;
+using testing::Estimate;
+using testing::expect_close;
+using testing::film;
+using testing::floor_under_sphere;
+using testing::floor_under_sphere_exact;
+using testing::floor_under_square;
+using testing::floor_under_square_exact;
+using testing::kPiD;
 using testing::lambert_like;
 using testing::ortho_camera_looking_down_y;
 using testing::ortho_camera_looking_down_z;
 using testing::quad_mesh;
-
-constexpr double kPiD = std::numbers::pi;
-
-// The image's mean red value and the standard error of that mean: pixels are independent
-// (each has its own scrambled samples), so the error is their spread over sqrt(count).
-struct Estimate {
-  double mean = 0.0;
-  double error = 0.0;
-};
-
-Estimate estimate(const Image& image) {
-  double sum = 0.0, sum2 = 0.0;
-  const double n = double(image.width) * image.height;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const double v = image.pixel(x, y)[0];
-      sum += v;
-      sum2 += v * v;
-    }
-  const double mean = sum / n;
-  const double variance = std::max(0.0, sum2 / n - mean * mean);
-  return {mean, std::sqrt(variance / (n - 1.0))};
-}
 
 struct PathSettings {
   int max_depth = 64;
@@ -59,28 +48,6 @@ testing::Rendered render_path(const SceneDescription& scene, testing::TestSettin
                                    {"roulette-depth", path.roulette_depth},
                                    {"strategy", path.strategy}});
   return testing::render_scene(scene, *c.integrator, settings);
-}
-
-testing::TestSettings film(int size, int spp) {
-  testing::TestSettings s;
-  s.width = s.height = size;
-  s.spp = spp;
-  return s;
-}
-
-// Asserts |measured - exact| within four standard errors, plus float rounding (2e-5 of the
-// value: samples are formed and summed in float; the sphere's cone sampling, whose estimate is
-// all but noiseless, measured 1e-5), and prints the figures.
-void expect_close(const char* what, const Estimate& e, double exact) {
-  std::printf("%s: %.6f +- %.6f (exact %.6f, error %+.6f = %.2f sigma)\n", what, e.mean, e.error,
-              exact, e.mean - exact, (e.mean - exact) / std::max(e.error, 1e-12));
-  EXPECT_NEAR(e.mean, exact, 4.0 * e.error + 2e-5 * exact) << what;
-}
-
-MaterialDescription emissive(float radiance, float albedo = 0.0f) {
-  MaterialDescription m = lambert_like(albedo);
-  m.emissive = C3f(radiance, radiance, radiance);
-  return m;
 }
 
 // pbrt-v4's RadianceMatches: inside a closed diffuse sphere of albedo 0.5 that emits 0.5,
@@ -143,53 +110,8 @@ TEST(PathIntegrator, WhiteFurnaceIsOneEverywhere) {
   }
 }
 
-// A Lambert floor (rho = 0.5) under an emissive sphere of radius R, radiance Le, centre at
-// height d: the irradiance below it is pi Le (R / d)^2, so the floor sends rho Le (R / d)^2.
-SceneDescription floor_under_sphere() {
-  SceneDescription scene;
-  scene.materials.push_back(lambert_like(0.5f));
-  scene.materials.push_back(emissive(2.0f));
-  scene.meshes.push_back(quad_mesh(50.0f, 0.0f, 0));
-  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
-  scene.spheres.push_back(Sphere{V3d(0.0, 3.0, 0.0), 1.0, 1, "lamp"});
-  scene.cameras.push_back(ortho_camera_looking_down_y(0.5, 0.02));
-  return scene;
-}
-
-// The same floor under a square of side 2 at height 2 made of two emissive triangles: the
-// form factor from a point below a corner of an a x b rectangle at height h is
-// (1 / 2 pi) [A / sqrt(1 + A^2) atan(B / sqrt(1 + A^2)) + B / sqrt(1 + B^2) atan(A / sqrt(1 +
-// B^2))] with A = a / h, B = b / h; four such corners meet below the centre, and the floor sends
-// rho Le F.
-SceneDescription floor_under_square() {
-  SceneDescription scene;
-  scene.materials.push_back(lambert_like(0.5f));
-  scene.materials.push_back(emissive(1.0f));
-  scene.meshes.push_back(quad_mesh(50.0f, 0.0f, 0));
-  scene.meshes.push_back(quad_mesh(1.0f, 2.0f, 1));
-  scene.instances.push_back(MeshInstance{0, M44d(), "floor"});
-  scene.instances.push_back(MeshInstance{1, M44d(), "panel"});
-  scene.cameras.push_back(ortho_camera_looking_down_y(0.5, 0.02));
-  return scene;
-}
-
-double square_form_factor(double half, double h) {
-  const double a = half / h;
-  const double s = std::sqrt(1.0 + a * a);
-  return 4.0 * (2.0 * a / s * std::atan(a / s)) / (2.0 * kPiD);
-}
-
 TEST(PathIntegrator, FloorUnderAnEmissiveSphereMatchesTheClosedForm) {
-  // At a distance r from the point below the centre the floor sends
-  // rho Le R^2 d / (d^2 + r^2)^(3/2); the image is the mean of that over the camera's square.
-  double exact = 0.0;
-  constexpr int kCells = 200;
-  for (int i = 0; i < kCells; ++i)
-    for (int j = 0; j < kCells; ++j) {
-      const double x = -0.02 + 0.04 * (i + 0.5) / kCells, z = -0.02 + 0.04 * (j + 0.5) / kCells;
-      exact += 0.5 * 2.0 * 3.0 / std::pow(9.0 + x * x + z * z, 1.5);
-    }
-  exact /= kCells * kCells;
+  const double exact = floor_under_sphere_exact();
   const char* names[] = {"sphere lamp, MIS", "sphere lamp, light samples only",
                          "sphere lamp, BSDF samples only"};
   for (int strategy = 0; strategy < 3; ++strategy)
@@ -199,7 +121,7 @@ TEST(PathIntegrator, FloorUnderAnEmissiveSphereMatchesTheClosedForm) {
 }
 
 TEST(PathIntegrator, FloorUnderAnEmissiveSquareMatchesTheClosedForm) {
-  const double exact = 0.5 * 1.0 * square_form_factor(1.0, 2.0);
+  const double exact = floor_under_square_exact();
   const char* names[] = {"square lamp, MIS", "square lamp, light samples only",
                          "square lamp, BSDF samples only"};
   for (int strategy = 0; strategy < 3; ++strategy)
@@ -235,21 +157,6 @@ SceneDescription mixed_lights_scene() {
   camera.camera_to_world[3][2] = 5.5;
   scene.cameras.push_back(camera);
   return scene;
-}
-
-// The mean of b - a over the pixels and its standard error: the images' own structure cancels
-// in the differences, which leaves the two estimates' noise.
-Estimate difference(const Image& a, const Image& b) {
-  double sum = 0.0, sum2 = 0.0;
-  const double n = double(a.width) * a.height;
-  for (int y = 0; y < a.height; ++y)
-    for (int x = 0; x < a.width; ++x) {
-      const double d = double(b.pixel(x, y)[0]) - a.pixel(x, y)[0];
-      sum += d;
-      sum2 += d * d;
-    }
-  const double mean = sum / n;
-  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1.0))};
 }
 
 // Renders mixed_lights_scene() with MIS and with each strategy alone (names in that order)

@@ -210,6 +210,13 @@ inline PixelSample2D sobol_owen_pixel_sample(uint64_t pixel_index, uint32_t samp
   return sample_pair(pixel_index, sample_index, 0, 0);
 }
 
+// Which sample of which pixel: the pixel's key (pixel_sample_key) and the sample's index, what
+// an integrator makes its PixelSampler from.
+struct PixelSampleId {
+  uint64_t pixel_key = 0;
+  uint32_t sample_index = 0;
+};
+
 // One sample of one pixel, handing out its dimensions in order: what an integrator draws
 // its random numbers from. Cheap to copy; holds no state but the next dimension.
 //

@@ -24,6 +24,10 @@
 
 namespace prism {
 
+// Shadow rays towards a point sampled on an area light stop short of it by this fraction of
+// the distance: the light's own surface would block them at their very end.
+inline constexpr float kAreaLightShadowRayEnd = 0.9999f;
+
 // A triangle light as seen from one point: the spherical triangle and the solid angle it is
 // sampled within, or a solid angle of 0 where it is sampled by area. Formed once per shading
 // point, it serves both the choice among a few lights (EmitterSampler) and the chosen one's

@@ -151,6 +151,17 @@ class Bsdf {
     b.fix_choice();
     return b;
   }
+  // The same lobes for an integrator that traces the delta lobes itself (whitted's mirror
+  // rays), as an area light's sample sees them: a smooth layer or coat traced as a mirror
+  // carries all of that lobe's light, so eval() leaves its GGX lobe out, and an emitter the
+  // mirror ray meets is not counted again by the sample. For eval() only.
+  Bsdf without_traced_mirrors() const {
+    Bsdf b = *this;
+    b.lobes_.mirror_only = lobes_.mirror;
+    b.lobes_.layers.clearcoat_mirror_only = lobes_.layers.clearcoat_mirror;
+    return b;
+  }
+  bool has_traced_mirror() const { return lobes_.mirror || lobes_.layers.clearcoat_mirror; }
   const Imath::V3f& shading_normal() const { return normal_; }
   // The same lobes about another shading normal (unit, on its geometric normal's side).
   Bsdf with_shading_normal(const Imath::V3f& shading_normal) const {

@@ -83,6 +83,9 @@ struct SurfaceLayers {
   Imath::V3f clearcoat_normal{0.0f, 0.0f, 1.0f};
   // The Whitted integrators also trace the coat as a mirror (roughness <= kMirrorRoughness).
   bool clearcoat_mirror = false;
+  // The coat's mirror carries all of its light: eval() leaves the coat's GGX lobe out
+  // (Bsdf::without_traced_mirrors).
+  bool clearcoat_mirror_only = false;
   Imath::V3f sheen_colour{0.0f};  // sheenColorFactor x texture, working space
   float sheen_alpha = kMinSheenAlpha;
 
@@ -143,7 +146,8 @@ struct SurfaceLayers {
     }
     if (!(clearcoat > 0.0f)) return under;
     const float cos_co = dot(nc, wo), cos_ci = dot(nc, wi);
-    return under * coat_transmittance(cos_co, cos_ci) + Imath::V3f(coat_f(wo, wi, nc));
+    return under * coat_transmittance(cos_co, cos_ci) +
+           Imath::V3f(clearcoat_mirror_only ? 0.0f : coat_f(wo, wi, nc));
   }
 
   // The coat lobe alone, c F(V.H) D Vis about the coat normal: F at V.H rather than the

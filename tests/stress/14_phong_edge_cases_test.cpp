@@ -42,8 +42,8 @@ struct Shading {
     const RenderContext context{*scene, *camera, settings};
     const V3f v = normalize(to_viewer);
     const AmbientLight ambient{V3f(settings.ambient)};
-    const V3f L = shadows ? shade_local<true>(context, ambient, hit, surface, v, &counters)
-                          : shade_local<false>(context, ambient, hit, surface, v, &counters);
+    const V3f L = shadows ? shade_local<true>(context, ambient, hit, surface, v, {}, &counters)
+                          : shade_local<false>(context, ambient, hit, surface, v, {}, &counters);
     EXPECT_TRUE(std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z));
     EXPECT_EQ(L.x, L.y);
     EXPECT_EQ(L.y, L.z);
